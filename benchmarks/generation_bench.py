@@ -1,0 +1,96 @@
+"""Seconds per paper-scale generation: simulation plus experience gain, per backend.
+
+    .venv/bin/python benchmarks/generation_bench.py [--robot ugv] [--genomes 100]
+        [--scenarios 80] [--repeats 2] [--workers 1 2]
+
+A generation is every genome on every training scenario in the batched engine (up to the
+scenario's time budget, 50 decisions at most), then one Euclidean MST per genome over its
+experience points. Genomes are evolved-looking: minimal genomes put through a few rounds of
+the paper's mutation so they carry hidden nodes. Prints JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+
+from mentor_core.config import EvolutionConfig
+from mentor_core.evaluators import make_evaluator
+from mentor_core.genome import Genome, minimal_genome
+from mentor_core.innovation import InnovationTracker
+from mentor_core.mutation import mutate
+from mentor_core.problem import NavigationProblem
+from mentor_core.robots import get_profile
+from mentor_core.scenarios import training_scenarios
+
+
+def evolved_looking(n: int, n_inputs: int, robot: str, rounds: int, seed: int) -> list[Genome]:
+    """``n`` genomes after ``rounds`` of the paper's mutation (hidden nodes, extra edges)."""
+    rng = np.random.default_rng(seed)
+    cfg = EvolutionConfig.paper(robot)
+    tracker = InnovationTracker(next_node_id=n_inputs + 3)
+    genomes = []
+    for _ in range(n):
+        g = minimal_genome(n_inputs, 2, tracker, rng)
+        for _ in range(rounds):
+            g = mutate(g, cfg.mutation, tracker, rng)
+        genomes.append(g)
+    return genomes
+
+
+def main() -> None:
+    """Run the benchmark and print JSON."""
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--robot", default="ugv")
+    p.add_argument("--genomes", type=int, default=100)
+    p.add_argument("--scenarios", type=int, default=80)
+    p.add_argument("--repeats", type=int, default=2)
+    p.add_argument("--rounds", type=int, default=10, help="mutation rounds per genome")
+    p.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    args = p.parse_args()
+
+    profile = get_profile(args.robot)
+    scenarios = training_scenarios(profile, 0, args.scenarios)
+    genomes = evolved_looking(args.genomes, profile.n_inputs, args.robot, args.rounds, 1)
+    problem = NavigationProblem(profile, scenarios)
+    out: dict[str, object] = {
+        "robot": args.robot,
+        "genomes": args.genomes,
+        "scenarios": args.scenarios,
+        "mean_hidden_nodes": float(np.mean([len(g.hidden_nodes) for g in genomes])),
+    }
+    batch = problem.simulate(genomes)
+    out["robot_steps"] = int(batch.steps.sum())
+    n_scen = len(scenarios)
+    out["experience_points_per_genome_mean"] = float(
+        np.mean([
+            sum(len(e) for e in batch.experience[g * n_scen : (g + 1) * n_scen])
+            for g in range(args.genomes)
+        ])
+    )
+    reference = None
+    for workers in args.workers:
+        with make_evaluator(problem, workers) as evaluator:
+            evaluator.evaluate(genomes)  # warm-up: numba compile / pool start
+            times = []
+            for _ in range(args.repeats):
+                t0 = time.perf_counter()
+                result = evaluator.evaluate(genomes)
+                times.append(time.perf_counter() - t0)
+        if reference is None:
+            reference = result.objectives
+        out[f"seconds_per_generation_workers{workers}"] = min(times)
+        out[f"identical_to_first_backend_workers{workers}"] = bool(
+            np.array_equal(reference, result.objectives)
+        )
+    t0 = time.perf_counter()
+    problem.simulate(genomes)
+    out["seconds_simulation_only"] = time.perf_counter() - t0
+    print(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()

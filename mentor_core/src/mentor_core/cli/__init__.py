@@ -1,0 +1,1 @@
+"""Command-line tools of the MENTOR suite (mentor-train, mentor-eval, ...)."""

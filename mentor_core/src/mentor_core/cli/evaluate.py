@@ -1,0 +1,158 @@
+"""``mentor-eval``: test evolved planners on unseen environments.
+
+    mentor-eval runs/ugv-dual/best_genome.json --bag bags/unseen/ugv --out eval.json
+    mentor-eval a.json b.json --robot swarm --world my_world.yaml
+    mentor-eval a.json --robot ugv --seed 7 --n 10          # a freshly sampled world
+
+An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
+table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mentor_core.assessment import TEST_TIME_LIMIT, Assessment, assess
+from mentor_core.atomic import write_json_atomic
+from mentor_core.bagio import read_scenario_bag
+from mentor_core.errors import FileFormatError, MentorError
+from mentor_core.genome_io import load_genome
+from mentor_core.robots import RobotProfile, get_profile
+from mentor_core.scenarios import sample_scenarios, sample_world
+from mentor_core.world import Scenario, World, load_world
+
+EVAL_FORMAT = "mentor-eval"
+EVAL_VERSION = 1
+
+
+def load_scenarios(args: argparse.Namespace) -> tuple[RobotProfile, World, list[Scenario], str]:
+    """The robot profile, world and scenarios the command line names, and their source."""
+    if args.bag is not None:
+        world, scenarios, robot, _meta = read_scenario_bag(args.bag)
+        if args.robot and args.robot != robot:
+            raise FileFormatError(args.bag, f"bag is for robot '{robot}', not '{args.robot}'")
+        return get_profile(robot), world, list(scenarios), str(args.bag)
+    if not args.robot:
+        raise MentorError("--robot is required with --world or --seed")
+    profile = get_profile(args.robot)
+    if args.world is not None:
+        world, scenarios = load_world(args.world)
+        if not scenarios:
+            raise FileFormatError(args.world, "world file has no start/goal pairs")
+        return profile, world, list(scenarios), str(args.world)
+    rng = np.random.default_rng(args.seed)
+    world = sample_world(profile.test_arena, rng)
+    return profile, world, sample_scenarios(world, profile, args.n, rng), f"seed {args.seed}"
+
+
+def _table(label: str, assessment: Assessment) -> str:
+    lines = [f"{label}", f"  {'#':>3}  {'outcome':<9} {'time s':>7} {'dist m':>7}"]
+    for r in assessment.results:
+        outcome = "reached" if r.reached else "collided" if r.collided else "timed out"
+        lines.append(f"  {r.scenario:>3}  {outcome:<9} {r.time:7.1f} {r.final_distance:7.3f}")
+    s = assessment.summary()
+    mean_t = "-" if math.isnan(s["mean_time_reached"]) else f"{s['mean_time_reached']:.1f} s"
+    lines.append(
+        f"  success {s['success_rate']:.0%}  collisions {s['collision_rate']:.0%}  "
+        f"survivability {s['survivability']:.0%}  mean time to goal {mean_t}"
+    )
+    return "\n".join(lines)
+
+
+def _finite_or_none(x: float) -> float | None:
+    return None if math.isnan(x) else x
+
+
+def eval_document(
+    profile: RobotProfile,
+    world: World,
+    scenarios: list[Scenario],
+    source: str,
+    time_limit: float,
+    runs: list[tuple[str, str, Assessment]],
+) -> dict[str, Any]:
+    """The JSON document of an evaluation (format ``mentor-eval``, version 1)."""
+    return {
+        "format": EVAL_FORMAT,
+        "version": EVAL_VERSION,
+        "robot": profile.name,
+        "source": source,
+        "world": {"size": world.size, "obstacles": world.obstacles.tolist()},
+        "scenarios": [{"start": list(s.start), "goal": list(s.goal)} for s in scenarios],
+        "goal_radius": profile.goal_radius,
+        "time_limit": time_limit,
+        "runs": [
+            {
+                "genome": label,
+                "path": path,
+                "results": [
+                    {
+                        "scenario": r.scenario,
+                        "reached": r.reached,
+                        "collided": r.collided,
+                        "timed_out": r.timed_out,
+                        "time": r.time,
+                        "final_distance": r.final_distance,
+                        "trajectory": r.trajectory.tolist(),
+                    }
+                    for r in a.results
+                ],
+                "summary": {k: _finite_or_none(v) for k, v in a.summary().items()},
+            }
+            for label, path, a in runs
+        ],
+    }
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of mentor-eval."""
+    p = argparse.ArgumentParser(prog="mentor-eval", description=__doc__.split("\n")[0])
+    p.add_argument("genomes", nargs="+", type=Path, help="genome JSON files")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--bag", type=Path, help="scenario bag (e.g. bags/unseen/ugv)")
+    src.add_argument("--world", type=Path, help="world YAML file with start/goal pairs")
+    src.add_argument("--seed", type=int, help="sample a fresh test world from this seed")
+    p.add_argument("--robot", choices=("ugv", "swarm"), help="robot profile")
+    p.add_argument("--n", type=int, default=10, help="start/goal pairs with --seed (10)")
+    p.add_argument("--time-limit", type=float, default=TEST_TIME_LIMIT, help="s (50)")
+    p.add_argument("--out", type=Path, help="write the results as JSON here")
+    p.add_argument("--label", action="append", help="a label per genome (default: file path)")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit status."""
+    args = build_parser().parse_args(argv)
+    labels = args.label or [str(g) for g in args.genomes]
+    if len(labels) != len(args.genomes):
+        print("mentor-eval: give one --label per genome", file=sys.stderr)
+        return 2
+    try:
+        profile, world, scenarios, source = load_scenarios(args)
+        runs: list[tuple[str, str, Assessment]] = []
+        for label, path in zip(labels, args.genomes, strict=True):
+            genome = load_genome(path)
+            try:
+                assessment = assess(genome, profile, scenarios, args.time_limit)
+            except ValueError as err:
+                raise FileFormatError(path, str(err)) from None
+            print(_table(label, assessment))
+            runs.append((label, str(path), assessment))
+        if args.out is not None:
+            doc = eval_document(profile, world, scenarios, source, args.time_limit, runs)
+            write_json_atomic(args.out, doc)
+            print(f"mentor-eval: wrote {args.out}", file=sys.stderr)
+    except (MentorError, OSError) as err:
+        print(f"mentor-eval: {err}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

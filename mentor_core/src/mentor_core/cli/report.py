@@ -1,0 +1,52 @@
+"""``mentor-report``: figures and a Markdown report of training runs and evaluations.
+
+    mentor-report runs/ugv-single runs/ugv-dual --eval eval/ugv.json --out report/
+    mentor-report runs/*-s* --out report/       # unfinished runs are skipped with a warning
+
+Writes PNG figures (Pareto front, convergence, niche sizes, performance vs complexity,
+topology, trajectories) and ``report.md`` with the numbers into ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import matplotlib
+
+from mentor_core.errors import MentorError
+from mentor_core.report import write_report
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of mentor-report."""
+    p = argparse.ArgumentParser(prog="mentor-report", description=__doc__.split("\n")[0])
+    p.add_argument("runs", nargs="+", type=Path, help="run directories (mentor-train --out)")
+    p.add_argument(
+        "--eval",
+        action="append",
+        default=[],
+        type=Path,
+        metavar="EVAL_JSON",
+        help="mentor-eval JSON file (repeatable)",
+    )
+    p.add_argument("--out", required=True, type=Path, help="output directory")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit status (2 on bad input)."""
+    args = build_parser().parse_args(argv)
+    matplotlib.use("Agg")  # no display needed; the report draws on the Agg canvas only
+    try:
+        report = write_report(args.runs, args.eval, args.out)
+    except (MentorError, OSError) as err:
+        print(f"mentor-report: {' '.join(str(err).split())}", file=sys.stderr)
+        return 2
+    print(f"mentor-report: wrote {report}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

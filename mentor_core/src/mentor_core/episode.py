@@ -1,0 +1,185 @@
+"""Episodes: many robots, one world, one policy call per control period for all of them.
+
+Each robot runs one scenario. Once per control period every still-active robot reads its
+sensors, the policy maps all their network inputs to outputs in one call, the outputs become
+actions, and :class:`mentor_core.engine.BatchEngine` moves every robot along its arc. A robot
+stops when it reaches its goal, collides, or has used its ``ceil(T_tot / control_period)``
+decisions (T_tot from :meth:`RobotProfile.time_budget`, the paper's T_tot,i).
+
+Time: a decision takes one control period, except the one that reaches the goal, which takes
+the share of the period spent on the arc up to the arriving sample; ``time_used`` sums these.
+
+Experience (paper, "Experience-Gain"): every decision gives the point
+``V = [U(t), A(t), U(t + 1)]`` of dimension ``2 k + 2``, with ``U`` the k range readings
+clipped to the sensor range and ``A = (dtheta, ds)``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core import observation
+from mentor_core.engine import BatchEngine
+from mentor_core.robots import RobotProfile
+from mentor_core.sensors import Backend
+from mentor_core.world import Scenario
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+Policy = Callable[[FloatArray, IntArray], ArrayLike]
+
+
+@dataclass(frozen=True)
+class EpisodeBatch:
+    """Outcome of ``n`` episodes (one robot each), arrays indexed by robot.
+
+    Attributes:
+        reached, collided, timed_out: how each episode ended (exactly one is True).
+        time_used: time spent, s (fractional on the arriving decision).
+        time_budget: T_tot of the episode, s.
+        final_distance: S_f, distance from the final position to the goal, m.
+        steps: number of decisions taken.
+        trajectories: ``(n, T + 1, 3)`` pose after each decision (row 0 the start), padded with
+            the final pose; ``T = steps.max()``.
+        experience: per robot a ``(steps_i, 2 k + 2)`` array of experience points.
+    """
+
+    reached: BoolArray
+    collided: BoolArray
+    timed_out: BoolArray
+    time_used: FloatArray
+    time_budget: FloatArray
+    final_distance: FloatArray
+    steps: IntArray
+    trajectories: FloatArray
+    experience: tuple[FloatArray, ...]
+
+    @property
+    def time_remaining(self) -> FloatArray:
+        """T_rem: budget left on arrival (s), clipped to ``[0, T_tot]``; 0 for a failure."""
+        left = np.clip(self.time_budget - self.time_used, 0.0, self.time_budget)
+        return np.where(self.reached, left, 0.0)
+
+
+def _common_world(scenarios: Sequence[Scenario]) -> Scenario:
+    if not scenarios:
+        raise ValueError("run_episodes needs at least one scenario")
+    first = scenarios[0]
+    for i, sc in enumerate(scenarios):
+        if sc.world is not first.world and sc.world != first.world:
+            raise ValueError(f"scenario {i} is in another world; one batch runs in ONE world")
+    return first
+
+
+def _decision_limits(
+    starts: FloatArray, goals: FloatArray, profile: RobotProfile,
+    time_budgets: ArrayLike | None, max_steps: int | None,
+) -> tuple[FloatArray, IntArray]:
+    """Budgets T_tot ``(n,)`` (s) and decisions allowed ``ceil(T_tot / dt)``, capped."""
+    if time_budgets is None:
+        # the trainer repeats its scenarios once per genome: one budget per distinct pair
+        pairs, inverse = np.unique(
+            np.concatenate([starts[:, :2], goals], axis=1), axis=0, return_inverse=True
+        )
+        unique = [profile.time_budget(p[:2], p[2:]) for p in pairs]
+        budget = np.asarray(unique, dtype=np.float64)[inverse.reshape(-1)]
+    else:
+        budget = np.broadcast_to(np.asarray(time_budgets, dtype=np.float64), starts.shape[:1])
+        budget = budget.copy()
+    if not (np.isfinite(budget).all() and (budget >= 0.0).all()):
+        raise ValueError("time budgets must be finite and non-negative")
+    allowed = np.ceil(budget / profile.control_period).astype(np.int64)
+    if max_steps is not None:
+        if max_steps < 0:
+            raise ValueError(f"max_steps must be >= 0, got {max_steps}")
+        allowed = np.minimum(allowed, max_steps)
+    return budget, allowed
+
+
+def _group_experience(
+    chunks: list[FloatArray], owners: list[IntArray], n: int, width: int
+) -> tuple[FloatArray, ...]:
+    """Split the per-step experience rows into one array per robot, in decision order."""
+    if not chunks:
+        return tuple(np.zeros((0, width), dtype=np.float64) for _ in range(n))
+    rows = np.concatenate(chunks, axis=0)
+    owner = np.concatenate(owners)
+    order = np.argsort(owner, kind="stable")  # stable: keeps each robot's decisions in order
+    bounds = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n))]).tolist()
+    grouped = rows[order]
+    return tuple(grouped[lo:hi] for lo, hi in itertools.pairwise(bounds))
+
+
+def run_episodes(
+    scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy, *,
+    time_budgets: ArrayLike | None = None, max_steps: int | None = None,
+    backend: Backend = "auto",
+) -> EpisodeBatch:
+    """Run one robot per scenario, all in the scenarios' common world, to the end.
+
+    Args:
+        scenarios: start/goal pairs, all in one world (ValueError otherwise).
+        profile: the robot.
+        policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, 2)``, called
+            once per control period for the ``m`` still-active robots (indices ascending).
+        time_budgets: per-scenario T_tot (s) instead of ``profile.time_budget``.
+        max_steps: cap on the decisions of every robot.
+        backend: kernel backend of the engine.
+    """
+    world = _common_world(scenarios).world
+    n = len(scenarios)
+    starts = np.array([sc.start for sc in scenarios], dtype=np.float64).reshape(n, 3)
+    goals = np.array([sc.goal for sc in scenarios], dtype=np.float64).reshape(n, 2)
+    budget, allowed = _decision_limits(starts, goals, profile, time_budgets, max_steps)
+    dt = float(profile.control_period)
+
+    engine = BatchEngine(world, profile, backend=backend)
+    engine.reset(starts, goals)
+    reached = engine.goal_distance() <= profile.goal_radius  # already there: no decision
+    collided = np.zeros(n, dtype=np.bool_)
+    steps = np.zeros(n, dtype=np.int64)
+    time_used = np.zeros(n, dtype=np.float64)
+    active = ~reached & (allowed > 0)
+    ranges = engine.observe()
+    trajectory = [engine.poses.copy()]
+    chunks: list[FloatArray] = []
+    owners: list[IntArray] = []
+    zeros = np.zeros(n, dtype=np.float64)
+
+    while active.any():
+        idx = np.flatnonzero(active)
+        inputs = observation.network_inputs(ranges[idx], engine.poses[idx], goals[idx], profile)
+        outputs = np.asarray(policy(inputs, idx), dtype=np.float64).reshape(idx.size, 2)
+        dth, ds = observation.actions_from_outputs(outputs, profile)
+        dtheta_all, ds_all = zeros.copy(), zeros.copy()
+        dtheta_all[idx], ds_all[idx] = dth, ds
+        result = engine.step(dtheta_all, ds_all, active)
+        after = engine.observe(idx)
+        action = np.stack([dth, ds], axis=1)
+        chunks.append(observation.experience_point(ranges[idx], action, after, profile))
+        owners.append(idx)
+        ranges[idx] = after
+        steps[idx] += 1
+        time_used[idx] += np.where(result.reached[idx], result.fraction[idx], 1.0) * dt
+        reached |= result.reached
+        collided |= result.collided
+        active &= ~(result.reached | result.collided) & (steps < allowed)
+        trajectory.append(engine.poses.copy())
+
+    return EpisodeBatch(
+        reached=reached,
+        collided=collided,
+        timed_out=~(reached | collided),
+        time_used=time_used,
+        time_budget=budget,
+        final_distance=engine.goal_distance(),
+        steps=steps,
+        trajectories=np.stack(trajectory, axis=1),
+        experience=_group_experience(chunks, owners, n, 2 * profile.n_sensors + 2),
+    )

@@ -1,0 +1,33 @@
+"""Exceptions of the MENTOR library.
+
+Every error about a file names the file and the fault in one line, so the command-line tools
+can print ``str(err)`` and exit non-zero.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class MentorError(Exception):
+    """Base class of all errors raised on purpose by mentor_core."""
+
+
+class ConfigError(MentorError, ValueError):
+    """A configuration value or key is invalid."""
+
+    def __init__(self, message: str, key: str | None = None, path: str | Path | None = None):
+        self.key = key
+        self.path = None if path is None else str(path)
+        where = f"{self.path}: " if self.path else ""
+        what = f"{key}: " if key else ""
+        super().__init__(f"{where}{what}{message}")
+
+
+class FileFormatError(MentorError, ValueError):
+    """A file (genome, checkpoint, world, bag) is missing, corrupt or of the wrong version."""
+
+    def __init__(self, path: str | Path, fault: str):
+        self.path = str(path)
+        self.fault = fault
+        super().__init__(f"{self.path}: {fault}")

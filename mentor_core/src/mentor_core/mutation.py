@@ -1,0 +1,171 @@
+"""MENTOR mutation: per-edge weight and add-node mutations, per-node-pair add-edge mutation.
+
+Paper, section II "Crossover and Mutation": a fixed probability of mutating *each edge* (and
+each node pair) makes the expected amount of variation proportional to the network's size.
+One call applies, in this order:
+
+1. weight mutation: every connection gene (enabled or not) with probability ``weight_rate``;
+   of those, a fraction ``weight_replace_rate`` draws a fresh weight from
+   N(0, ``weight_init_sigma``), the rest add N(0, ``weight_perturb_sigma``); the result is
+   clamped to ``[-weight_max, weight_max]``;
+2. add node: every enabled connection of the parent with probability ``node_rate`` is split:
+   it is disabled, ``in -> new`` gets weight 1.0 and ``new -> out`` the old weight, so the
+   network computes nearly the same function; the new node has the genome's
+   ``hidden_activation``;
+3. add edge: every node pair ``(a, b)`` with ``b`` not an input/bias node, ``a != b``, no
+   gene ``a -> b`` yet (enabled or not) and no path ``b -> a`` (no cycle) is a candidate,
+   added with probability ``edge_rate`` and weight N(0, ``weight_init_sigma``). The number of
+   additions is drawn as Binomial(n_candidates, edge_rate) and that many candidates are picked
+   uniformly without replacement (the same law as one coin per pair); each is re-checked for
+   a cycle against the edges added before it and skipped if it would close one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from mentor_core.errors import ConfigError
+from mentor_core.genome import (
+    ConnectionGene,
+    Genome,
+    NodeGene,
+    adjacency,
+    has_path,
+    topological_order,
+)
+from mentor_core.innovation import InnovationTracker
+
+_RATE_FIELDS = ("weight_rate", "weight_replace_rate", "node_rate", "edge_rate")
+_POSITIVE_FIELDS = ("weight_perturb_sigma", "weight_init_sigma", "weight_max")
+
+
+@dataclass(frozen=True)
+class MutationConfig:
+    """Mutation probabilities and weight parameters (defaults: the paper's UGV case)."""
+
+    weight_rate: float = 0.25
+    weight_perturb_sigma: float = 0.5
+    weight_replace_rate: float = 0.1
+    weight_init_sigma: float = 1.0
+    weight_max: float = 8.0
+    node_rate: float = 0.05
+    edge_rate: float = 0.03
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ConfigError(f"must be a number, got {value!r}", key=f.name)
+        for name in _RATE_FIELDS:
+            value = getattr(self, name)
+            if not 0.0 <= value <= 1.0:
+                raise ConfigError(f"must be in [0, 1], got {value!r}", key=name)
+        for name in _POSITIVE_FIELDS:
+            value = getattr(self, name)
+            if not (value > 0.0 and np.isfinite(value)):
+                raise ConfigError(f"must be finite and > 0, got {value!r}", key=name)
+
+
+def mutate(
+    genome: Genome, cfg: MutationConfig, tracker: InnovationTracker, rng: np.random.Generator
+) -> Genome:
+    """A mutated copy of ``genome`` (weights, then add-node, then add-edge; see module doc)."""
+    connections = mutate_weights(genome.connections, cfg, rng)
+    connections, nodes = _add_nodes(genome, connections, cfg, tracker, rng)
+    connections = _add_edges(connections, nodes, cfg, tracker, rng)
+    return genome.with_connections(connections, nodes)
+
+
+def mutate_weights(
+    connections: tuple[ConnectionGene, ...], cfg: MutationConfig, rng: np.random.Generator
+) -> list[ConnectionGene]:
+    """Per-edge weight mutation: perturb (or, rarely, replace) each weight w.p. ``weight_rate``."""
+    n = len(connections)
+    hit = rng.random(n) < cfg.weight_rate
+    replace = rng.random(n) < cfg.weight_replace_rate
+    fresh = rng.normal(0.0, cfg.weight_init_sigma, size=n)
+    noise = rng.normal(0.0, cfg.weight_perturb_sigma, size=n)
+    old = np.array([c.weight for c in connections], dtype=np.float64)
+    new = np.clip(np.where(replace, fresh, old + noise), -cfg.weight_max, cfg.weight_max)
+    return [
+        ConnectionGene(c.innovation, c.in_node, c.out_node, float(w), c.enabled) if h else c
+        for c, h, w in zip(connections, hit, new, strict=True)
+    ]
+
+
+def _add_nodes(
+    genome: Genome,
+    connections: list[ConnectionGene],
+    cfg: MutationConfig,
+    tracker: InnovationTracker,
+    rng: np.random.Generator,
+) -> tuple[list[ConnectionGene], list[NodeGene]]:
+    """Split each enabled edge with probability ``node_rate``."""
+    split = rng.random(len(connections)) < cfg.node_rate
+    nodes = list(genome.nodes)
+    taken = {n.id for n in nodes}
+    out: list[ConnectionGene] = []
+    for c, do_split in zip(connections, split, strict=True):
+        if not (do_split and c.enabled):
+            out.append(c)
+            continue
+        node = tracker.split(c.innovation, taken)
+        taken.add(node)
+        nodes.append(NodeGene(node, "hidden", genome.hidden_activation))
+        out.append(ConnectionGene(c.innovation, c.in_node, c.out_node, c.weight, False))
+        out.append(ConnectionGene(tracker.connection(c.in_node, node), c.in_node, node, 1.0))
+        out.append(
+            ConnectionGene(tracker.connection(node, c.out_node), node, c.out_node, c.weight)
+        )
+    return out, nodes
+
+
+def _add_edges(
+    connections: list[ConnectionGene],
+    nodes: list[NodeGene],
+    cfg: MutationConfig,
+    tracker: InnovationTracker,
+    rng: np.random.Generator,
+) -> list[ConnectionGene]:
+    """Add edges between unconnected node pairs, each candidate with probability ``edge_rate``."""
+    succ = adjacency(connections)
+    ids = sorted(n.id for n in nodes)
+    targets = [n.id for n in sorted(nodes, key=lambda n: n.id) if n.kind in ("output", "hidden")]
+    below = descendants(ids, succ)
+    # a -> b closes a cycle iff a is reachable from b (a == b included)
+    candidates = [
+        (a, b)
+        for a in ids
+        for b in targets
+        if a != b and b not in succ.get(a, ()) and a not in below[b]
+    ]
+    n_add = int(rng.binomial(len(candidates), cfg.edge_rate)) if candidates else 0
+    if n_add == 0:
+        return connections
+    picks = rng.choice(len(candidates), size=n_add, replace=False)
+    weights = np.clip(
+        rng.normal(0.0, cfg.weight_init_sigma, size=n_add), -cfg.weight_max, cfg.weight_max
+    )
+    out = list(connections)
+    for k, w in zip(picks, weights, strict=True):
+        a, b = candidates[int(k)]
+        if has_path(succ, b, a):  # an edge added just before closes a cycle with this one
+            continue
+        succ.setdefault(a, set()).add(b)
+        out.append(ConnectionGene(tracker.connection(a, b), a, b, float(w)))
+    return out
+
+
+def descendants(ids: list[int], succ: dict[int, set[int]]) -> dict[int, frozenset[int]]:
+    """For every node, the set of nodes reachable from it (itself excluded); acyclic ``succ``."""
+    order = topological_order(ids, ((a, b) for a, bs in succ.items() for b in bs))
+    below: dict[int, frozenset[int]] = {}
+    for node in reversed(order):
+        reach: set[int] = set()
+        for nxt in succ.get(node, ()):
+            reach.add(nxt)
+            reach |= below[nxt]
+        below[node] = frozenset(reach)
+    return below

@@ -1,0 +1,163 @@
+"""The planner's input and output: the ONE place that turns a robot's state into network inputs
+and network outputs into actions. The trainer, the planner node and the tests all call these.
+
+Network inputs (paper, section III-B; ``k`` = number of range sensors)::
+
+    [U_1 .. U_k, dX, dY, theta]
+
+* ``U_i``: reading of sensor ``i`` (profile order), m, clipped to ``[0, sensor_range]``; an
+  out-of-range reading (+inf, REP-117) becomes ``sensor_range``.
+* ``(dX, dY)``: the map-frame gradient of the goal signal ``S = 1 / d`` (``d`` the distance to
+  the goal), bounded near the goal and scaled to magnitude <= 1 (see :func:`signal_gradient`).
+* ``theta``: global heading, rad, wrapped to ``(-pi, pi]``.
+
+Network outputs ``(o_1, o_2)`` (clipped to ``[0, 1]``) map linearly onto the actions
+``dtheta in [-heading_change_max, heading_change_max]`` (rad) and ``ds in [step_min,
+step_max]`` (m). A decision becomes a Twist with ``angular.z = dtheta / dt``,
+``linear.x = ds / dt`` over the control period ``dt`` (s).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.kinematics import wrap_angle
+from mentor_core.robots import RobotProfile
+
+FloatArray = NDArray[np.float64]
+
+
+def clip_ranges(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """Readings (n, k) in m clipped to ``[0, sensor_range]``; +inf becomes ``sensor_range``.
+
+    Raises ValueError for a wrong number of sensors, a NaN or a negative reading.
+    """
+    r = np.atleast_2d(np.asarray(ranges, dtype=np.float64))
+    if r.ndim != 2 or r.shape[1] != profile.n_sensors:
+        raise ValueError(
+            f"expected (n, {profile.n_sensors}) range readings for {profile.name!r}, "
+            f"got shape {r.shape}"
+        )
+    if np.isnan(r).any():
+        raise ValueError("range reading is NaN")
+    if (r < 0.0).any():
+        raise ValueError(f"range reading is negative ({r.min()} m)")
+    return np.minimum(r, profile.sensor_range)
+
+
+def signal_gradient(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> FloatArray:
+    """Bounded, scaled gradient (n, 2) of the goal signal ``S = 1 / d`` in the map frame.
+
+    With ``v = g - p`` (m) and ``d = |v|``, ``grad_p S = v / d^3``. Near the goal ``d`` is
+    clamped below at the goal radius ``R`` in the magnitude term, and the result is scaled by
+    ``R^2`` so that it is dimensionless and at most 1 in magnitude:
+
+        (dX, dY) = R^2 * (v / d) / max(d, R)^2      ((0, 0) at d = 0)
+
+    Its magnitude is 1 inside the goal radius and ``(R / d)^2`` outside; it points at the goal.
+    """
+    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
+    g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
+    v = g[:, :2] - p[:, :2]
+    d = np.hypot(v[:, 0], v[:, 1])[:, None]
+    unit = np.divide(v, d, out=np.zeros_like(v), where=d > 0.0)
+    return unit * (goal_radius / np.maximum(d, goal_radius)) ** 2
+
+
+def network_inputs(
+    ranges: ArrayLike, poses: ArrayLike, goals: ArrayLike, profile: RobotProfile
+) -> FloatArray:
+    """Network inputs (n, k + 3) = ``[clipped ranges, dX, dY, theta]`` (module docstring).
+
+    Args:
+        ranges: (n, k) sensor readings, m, in the profile's sensor order; +inf = nothing seen.
+        poses: (n, 3) robot poses (x, y, theta) in the map frame (m, m, rad).
+        goals: (n, 2) goal positions in the map frame, m.
+        profile: the robot.
+
+    Raises ValueError for NaN or negative readings, non-finite poses or goals, or shapes that
+    do not match.
+    """
+    u = clip_ranges(ranges, profile)
+    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
+    g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
+    if p.shape != (u.shape[0], 3) or g.shape != (u.shape[0], 2):
+        raise ValueError(
+            f"expected poses ({u.shape[0]}, 3) and goals ({u.shape[0]}, 2), "
+            f"got {p.shape} and {g.shape}"
+        )
+    if not (np.isfinite(p).all() and np.isfinite(g).all()):
+        raise ValueError("pose or goal is not finite")
+    out = np.empty((u.shape[0], profile.n_inputs), dtype=np.float64)
+    out[:, : profile.n_sensors] = u
+    out[:, profile.n_sensors : profile.n_sensors + 2] = signal_gradient(
+        p, g, profile.goal_radius
+    )
+    out[:, -1] = wrap_angle(p[:, 2])
+    return out
+
+
+def actions_from_outputs(
+    outputs: ArrayLike, profile: RobotProfile
+) -> tuple[FloatArray, FloatArray]:
+    """Actions ``(dtheta (n,), ds (n,))`` from network outputs (n, 2).
+
+    ``o`` clipped to [0, 1]; ``dtheta = hmax (2 o_1 - 1)`` rad, ``ds = step_min + (step_max -
+    step_min) o_2`` m. Raises ValueError for NaN outputs or a wrong shape.
+    """
+    o = np.atleast_2d(np.asarray(outputs, dtype=np.float64))
+    if o.ndim != 2 or o.shape[1] != 2:
+        raise ValueError(f"expected (n, 2) network outputs, got shape {o.shape}")
+    if np.isnan(o).any():
+        raise ValueError("network output is NaN")
+    o = np.clip(o, 0.0, 1.0)
+    dtheta = profile.heading_change_max * (2.0 * o[:, 0] - 1.0)
+    ds = profile.step_min + (profile.step_max - profile.step_min) * o[:, 1]
+    return dtheta, ds
+
+
+def twist_from_action(
+    dtheta: ArrayLike, ds: ArrayLike, dt: float
+) -> tuple[FloatArray, FloatArray]:
+    """Twist of one decision: ``(angular_z, linear_x) = (dtheta / dt, ds / dt)`` (rad/s, m/s)."""
+    period = _period(dt)
+    return np.asarray(dtheta, dtype=np.float64) / period, np.asarray(ds, dtype=np.float64) / period
+
+
+def action_from_twist(
+    angular_z: ArrayLike, linear_x: ArrayLike, dt: float
+) -> tuple[FloatArray, FloatArray]:
+    """Decision of a twist held for ``dt`` s: ``(dtheta, ds) = (angular_z dt, linear_x dt)``."""
+    period = _period(dt)
+    return (
+        np.asarray(angular_z, dtype=np.float64) * period,
+        np.asarray(linear_x, dtype=np.float64) * period,
+    )
+
+
+def experience_point(
+    ranges_t: ArrayLike, action: ArrayLike, ranges_t1: ArrayLike, profile: RobotProfile
+) -> FloatArray:
+    """Experience points V = [U(t), A(t), U(t+1)] (paper eq. 4), (n, 2k + 2).
+
+    ``U`` are readings clipped as network inputs (:func:`clip_ranges`, m); ``A = (dtheta,
+    ds)`` (rad, m) is the action taken between t and t + 1, given as (n, 2).
+    """
+    u0 = clip_ranges(ranges_t, profile)
+    u1 = clip_ranges(ranges_t1, profile)
+    a = np.atleast_2d(np.asarray(action, dtype=np.float64))
+    if a.shape != (u0.shape[0], 2) or u1.shape != u0.shape:
+        raise ValueError(
+            f"expected actions ({u0.shape[0]}, 2) and next readings {u0.shape}, "
+            f"got {a.shape} and {u1.shape}"
+        )
+    if not np.isfinite(a).all():
+        raise ValueError("action is not finite")
+    return np.concatenate([u0, a, u1], axis=1)
+
+
+def _period(dt: float) -> float:
+    if not np.isfinite(dt) or dt <= 0.0:
+        raise ValueError(f"control period must be positive and finite, got {dt}")
+    return float(dt)

@@ -1,0 +1,285 @@
+"""Robot profiles: body, range sensors, action limits and time budget of each robot.
+
+All profiles live in one YAML file (``mentor_core/data/robots.yaml``, format
+``mentor-robots`` version 1) read by the simulator, the trainer and the planner, so the three
+always agree. Units are REP-103 (m, s, rad); the file writes angles in degrees (keys ending in
+``_deg``) and they are converted to radians here.
+
+Sensor order: reading ``i`` (network input ``i``, LaserScan range ``i``) comes from
+``profile.sensors[i]``. The default profiles list their sensors counter-clockwise seen from
+above, as a LaserScan's angles increase:
+
+* ``ugv``: 0 front-right, 1 front-left (front edge, facing forward), 2 left-front, 3 left-rear
+  (facing left), 4 rear-left, 5 rear-right (facing back), 6 right-rear, 7 right-front (facing
+  right); the two sensors of an edge are 0.075 m apart.
+* ``swarm``: 0 front-right (-45 deg), 1 front-centre (0 deg), 2 front-left (+45 deg).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.errors import ConfigError, FileFormatError
+
+PROFILES_FORMAT = "mentor-robots"
+PROFILES_VERSION = 1
+# a mount may sit on the body edge; this absorbs the rounding of decimal coordinates
+_MOUNT_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class SensorMount:
+    """One range sensor in the body frame: position (m) and facing angle (rad, 0 = forward)."""
+
+    x: float
+    y: float
+    angle: float
+
+
+@dataclass(frozen=True)
+class RobotProfile:
+    """Everything the library needs to know about one robot (units m, s, rad).
+
+    Attributes:
+        name: profile key in the robot file (``ugv``, ``swarm``).
+        length, width: body rectangle along x and y of the body frame, m.
+        sensors: range sensors in reading order (see the module docstring).
+        sensor_range: maximum range of every sensor, m.
+        heading_change_max: the heading change action lies in [-max, max], rad.
+        step_min, step_max: the translation action lies in [step_min, step_max], m.
+        control_period: time of one decision, s.
+        rated_speed: pace used for the time budget, m/s.
+        goal_radius: a robot within this distance of the goal has reached it, m.
+        time_budget_slack, time_budget_cap: see :meth:`time_budget`.
+        train_arena, test_arena: side of the square training / unseen-test arena, m.
+        train_scenarios: number of training scenarios (start/goal pairs).
+    """
+
+    name: str
+    length: float
+    width: float
+    sensors: tuple[SensorMount, ...]
+    sensor_range: float
+    heading_change_max: float
+    step_min: float
+    step_max: float
+    control_period: float
+    rated_speed: float
+    goal_radius: float
+    time_budget_slack: float
+    time_budget_cap: float
+    train_arena: float
+    train_scenarios: int
+    test_arena: float
+
+    @property
+    def n_sensors(self) -> int:
+        """Number of range sensors (readings)."""
+        return len(self.sensors)
+
+    @property
+    def n_inputs(self) -> int:
+        """Network inputs without the bias: the readings, dX, dY and the heading."""
+        return self.n_sensors + 3
+
+    @property
+    def half_diagonal(self) -> float:
+        """Radius of the circle around the body centre that holds the whole body, m."""
+        return 0.5 * math.hypot(self.length, self.width)
+
+    @property
+    def uncapped_distance(self) -> float:
+        """Longest straight start-goal distance whose time budget the cap does not cut, m.
+
+        d* = cap * rated_speed / slack (from slack * d* / rated_speed = cap).
+        """
+        return self.time_budget_cap * self.rated_speed / self.time_budget_slack
+
+    @property
+    def body_polygon(self) -> tuple[tuple[float, float], ...]:
+        """Body rectangle corners in the body frame, counter-clockwise from rear-right, m."""
+        hl, hw = 0.5 * self.length, 0.5 * self.width
+        return ((-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw))
+
+    def time_budget(self, start_xy: ArrayLike, goal_xy: ArrayLike) -> float:
+        """Time budget of a scenario, s.
+
+        T_tot = min(cap, slack * d / rated_speed), d = |goal - start| the straight distance.
+        """
+        d = float(np.hypot(*(np.asarray(goal_xy, float)[:2] - np.asarray(start_xy, float)[:2])))
+        return min(self.time_budget_cap, self.time_budget_slack * d / self.rated_speed)
+
+
+def body_corners(profile: RobotProfile, poses: ArrayLike) -> NDArray[np.float64]:
+    """Map-frame corners of the body at each pose: (n, 3) poses -> (n, 4, 2), m.
+
+    corner = (x, y) + R(theta) c for each body-frame corner c of ``profile.body_polygon``.
+    """
+    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
+    local = np.asarray(profile.body_polygon, dtype=np.float64)
+    c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
+    x = p[:, 0:1] + c * local[None, :, 0] - s * local[None, :, 1]
+    y = p[:, 1:2] + s * local[None, :, 0] + c * local[None, :, 1]
+    return np.stack([x, y], axis=-1)
+
+
+def default_profiles_path() -> Path:
+    """Path of the robot file shipped with mentor_core."""
+    return Path(str(resources.files("mentor_core").joinpath("data/robots.yaml")))
+
+
+def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
+    """Read and validate every profile of a robot file (default: the shipped one).
+
+    Raises:
+        FileFormatError: the file is missing, not YAML, or of another format or version.
+        ConfigError: a key is unknown or missing, or a value is out of range (names both the
+            key, e.g. ``robots.ugv.step_min``, and the file).
+    """
+    source = default_profiles_path() if path is None else Path(path)
+    try:
+        text = source.read_text(encoding="utf-8")
+    except OSError as err:
+        raise FileFormatError(source, f"cannot read robot file ({err.strerror})") from None
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        raise FileFormatError(source, f"not valid YAML ({_first_line(err)})") from None
+    if not isinstance(doc, dict):
+        raise FileFormatError(source, "expected a mapping at the top level")
+    if doc.get("format") != PROFILES_FORMAT:
+        raise FileFormatError(source, f"format is {doc.get('format')!r}, not {PROFILES_FORMAT!r}")
+    if doc.get("version") != PROFILES_VERSION:
+        raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
+    _check_keys(doc, {"format", "version", "robots"}, {"format", "version", "robots"}, "", source)
+    robots = doc["robots"]
+    if not isinstance(robots, dict) or not robots:
+        raise ConfigError("expected a non-empty mapping of profiles", key="robots", path=source)
+    return {
+        str(name): _parse_profile(str(name), spec, source) for name, spec in sorted(robots.items())
+    }
+
+
+def get_profile(name: str, path: str | Path | None = None) -> RobotProfile:
+    """The profile called ``name``; ConfigError naming the known ones when there is none."""
+    profiles = load_profiles(path)
+    if name not in profiles:
+        where = default_profiles_path() if path is None else path
+        known = ", ".join(sorted(profiles))
+        raise ConfigError(f"unknown robot {name!r} (known: {known})", key="robot", path=where)
+    return profiles[name]
+
+
+_SCALARS = (
+    "length",
+    "width",
+    "sensor_range",
+    "heading_change_max_deg",
+    "step_min",
+    "step_max",
+    "control_period",
+    "rated_speed",
+    "time_budget_slack",
+    "time_budget_cap",
+    "goal_radius",
+    "train_arena",
+    "test_arena",
+)
+_PROFILE_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
+_MOUNT_KEYS = {"x", "y", "angle_deg"}
+
+
+def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
+    prefix = f"robots.{name}"
+    if not isinstance(spec, dict):
+        raise ConfigError("expected a mapping", key=prefix, path=source)
+    _check_keys(spec, _PROFILE_KEYS, _PROFILE_KEYS, prefix, source)
+    # every scalar of a profile is a size, a time or a limit: all must be positive
+    v = {key: _number(spec[key], f"{prefix}.{key}", source, positive=True) for key in _SCALARS}
+    if v["step_min"] > v["step_max"]:
+        raise ConfigError(
+            f"step_min {v['step_min']} exceeds step_max {v['step_max']}",
+            key=f"{prefix}.step_min",
+            path=source,
+        )
+    count = spec["train_scenarios"]
+    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+        raise ConfigError(
+            "must be a positive integer", key=f"{prefix}.train_scenarios", path=source
+        )
+    mounts = spec["sensors"]
+    if not isinstance(mounts, list) or not mounts:
+        raise ConfigError("expected a non-empty list", key=f"{prefix}.sensors", path=source)
+    sensors = tuple(
+        _parse_mount(m, f"{prefix}.sensors[{i}]", v["length"], v["width"], source)
+        for i, m in enumerate(mounts)
+    )
+    return RobotProfile(
+        name=name,
+        length=v["length"],
+        width=v["width"],
+        sensors=sensors,
+        sensor_range=v["sensor_range"],
+        heading_change_max=math.radians(v["heading_change_max_deg"]),
+        step_min=v["step_min"],
+        step_max=v["step_max"],
+        control_period=v["control_period"],
+        rated_speed=v["rated_speed"],
+        goal_radius=v["goal_radius"],
+        time_budget_slack=v["time_budget_slack"],
+        time_budget_cap=v["time_budget_cap"],
+        train_arena=v["train_arena"],
+        train_scenarios=count,
+        test_arena=v["test_arena"],
+    )
+
+
+def _parse_mount(spec: Any, key: str, length: float, width: float, source: Path) -> SensorMount:
+    if not isinstance(spec, dict):
+        raise ConfigError("expected a mapping with x, y, angle_deg", key=key, path=source)
+    _check_keys(spec, _MOUNT_KEYS, _MOUNT_KEYS, key, source)
+    x = _number(spec["x"], f"{key}.x", source)
+    y = _number(spec["y"], f"{key}.y", source)
+    angle = _number(spec["angle_deg"], f"{key}.angle_deg", source)
+    if abs(x) > 0.5 * length + _MOUNT_TOLERANCE or abs(y) > 0.5 * width + _MOUNT_TOLERANCE:
+        raise ConfigError(
+            f"sensor at ({x}, {y}) lies outside the {length} x {width} m body",
+            key=key,
+            path=source,
+        )
+    return SensorMount(x=x, y=y, angle=math.radians(angle))
+
+
+def _number(value: Any, key: str, source: Path, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ConfigError(f"expected a finite number, got {value!r}", key=key, path=source)
+    if positive and value <= 0:
+        raise ConfigError(f"must be positive, got {value}", key=key, path=source)
+    return float(value)
+
+
+def _check_keys(
+    spec: Mapping[Any, Any], allowed: set[str], required: set[str], prefix: str, source: Path
+) -> None:
+    def full(k: object) -> str:
+        return f"{prefix}.{k}" if prefix else str(k)
+
+    for k in sorted(map(str, spec)):
+        if k not in allowed:
+            raise ConfigError("unknown key", key=full(k), path=source)
+    for k in sorted(required):
+        if k not in spec:
+            raise ConfigError("missing key", key=full(k), path=source)
+
+
+def _first_line(err: Exception) -> str:
+    return str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__

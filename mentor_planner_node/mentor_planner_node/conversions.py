@@ -1,0 +1,83 @@
+"""Message <-> mentor_core conversions of the planner node (no node, no graph needed).
+
+The planner reads ``<ns>/scan`` (ranges in the robot profile's sensor order, +inf out of range,
+see ``mentor_sim_node.conversions``), ``<ns>/odom`` (pose in ``odom`` = ``map`` in the
+simulator) and ``<ns>/goal`` (``map``), and answers on ``<ns>/cmd_vel``. The network inputs
+themselves come from the one shared function ``mentor_core.observation.network_inputs``, which
+clips +inf to the sensor range; nothing here changes a reading.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from geometry_msgs.msg import PoseStamped, Twist, Vector3
+from nav_msgs.msg import Odometry
+from numpy.typing import NDArray
+from sensor_msgs.msg import LaserScan
+
+from mentor_core import observation
+from mentor_core.bagio import MAP_FRAME, quaternion_to_yaw
+
+if TYPE_CHECKING:
+    from mentor_core.robots import RobotProfile
+
+#: Frames a goal may be given in: the arena frame, or none (taken as the arena frame).
+GOAL_FRAMES = (MAP_FRAME, "")
+
+
+def ranges_from_scan(msg: LaserScan, profile: RobotProfile) -> NDArray[np.float64]:
+    """Readings (m, float64, profile sensor order) of a scan; +inf is kept.
+
+    ``ValueError`` when the count differs from ``profile.n_sensors`` or a reading is NaN.
+    """
+    r = np.asarray(msg.ranges, dtype=np.float64)
+    if r.shape != (profile.n_sensors,):
+        raise ValueError(
+            f"scan has {r.size} ranges, profile {profile.name!r} has {profile.n_sensors} sensors"
+        )
+    if np.isnan(r).any():
+        raise ValueError("scan holds a NaN range")
+    return r
+
+
+def pose_from_odometry(msg: Odometry) -> tuple[float, float, float]:
+    """Pose ``(x, y, theta)`` (m, m, rad in ``(-pi, pi]``) of an Odometry message.
+
+    ``ValueError`` for a non-finite position or orientation.
+    """
+    p = msg.pose.pose.position
+    q = msg.pose.pose.orientation
+    values = (p.x, p.y, q.x, q.y, q.z, q.w)
+    if not all(math.isfinite(v) for v in values):
+        raise ValueError("odometry pose is not finite")
+    if q.x == 0.0 and q.y == 0.0 and q.z == 0.0 and q.w == 0.0:
+        raise ValueError("odometry orientation is the zero quaternion")
+    return float(p.x), float(p.y), quaternion_to_yaw(q.x, q.y, q.z, q.w)
+
+
+def goal_from_pose_stamped(msg: PoseStamped) -> tuple[float, float]:
+    """Goal ``(x, y)`` (m) of a PoseStamped in ``map`` (an empty frame is taken as ``map``).
+
+    ``ValueError`` for another frame or a non-finite position.
+    """
+    if msg.header.frame_id not in GOAL_FRAMES:
+        raise ValueError(f"goal frame {msg.header.frame_id!r} is not {MAP_FRAME!r}")
+    x, y = float(msg.pose.position.x), float(msg.pose.position.y)
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError("goal position is not finite")
+    return x, y
+
+
+def twist_from_action(dtheta: float, ds: float, dt: float) -> Twist:
+    """Command for one decision: ``angular.z = dtheta/dt`` (rad/s), ``linear.x = ds/dt`` (m/s).
+
+    The robot then drives the exact unicycle arc with end heading ``theta + dtheta`` and path
+    length ``ds`` over ``dt`` s. ``ValueError`` for non-finite values or ``dt <= 0``.
+    """
+    if not (math.isfinite(dtheta) and math.isfinite(ds)):
+        raise ValueError(f"non-finite action (dtheta={dtheta}, ds={ds})")
+    angular_z, linear_x = observation.twist_from_action(dtheta, ds, dt)
+    return Twist(linear=Vector3(x=float(linear_x)), angular=Vector3(z=float(angular_z)))

@@ -1,0 +1,1 @@
+"""ROS 2 package mentor_sim_node of the MENTOR suite."""

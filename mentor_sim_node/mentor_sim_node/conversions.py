@@ -1,0 +1,165 @@
+"""Message <-> mentor_core conversions of the simulator node (no node, no graph needed).
+
+Frames (REP-105): ``map`` is the arena frame; the simulator's odometry is drift-free, so
+``odom`` coincides with ``map``; each robot's body frame is ``<ns>/base_link``. Units REP-103.
+
+LaserScan convention: a MENTOR robot's range sensors sit at different points of the body and a
+LaserScan cannot say so. ``ranges[i]`` is sensor ``i`` of the robot profile (its order),
+``angle_min``/``angle_max`` are the first/last mount angle, ``angle_increment`` is the common
+step when the mount angles are evenly spaced and increasing, else 0 (irregular); ``range_min``
+is 0, ``range_max`` the sensor range, and out-of-range readings are +inf (REP-117). The
+numbers come from :func:`mentor_core.bagio.scan_geometry`, so recorded bags agree.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist, Vector3
+from nav_msgs.msg import Odometry
+from numpy.typing import ArrayLike
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import ColorRGBA, Header
+from visualization_msgs.msg import Marker, MarkerArray
+
+from mentor_core import observation
+from mentor_core.bagio import (
+    ARENA_LINE_WIDTH,
+    MAP_FRAME,
+    ODOM_FRAME,
+    arena_outline,
+    box_markers,
+    scan_geometry,
+    yaw_to_quaternion,
+)
+
+if TYPE_CHECKING:
+    from mentor_core.robots import RobotProfile
+    from mentor_core.world import World
+
+_NS_PER_S = 1_000_000_000
+
+
+def time_from_ns(stamp_ns: int) -> Time:
+    """``builtin_interfaces/Time`` of a (sim) time in ns (>= 0)."""
+    if stamp_ns < 0:
+        raise ValueError(f"time {stamp_ns} ns is negative")
+    sec, nanosec = divmod(int(stamp_ns), _NS_PER_S)
+    return Time(sec=sec, nanosec=nanosec)
+
+
+def ns_from_time(stamp: Time) -> int:
+    """Time in ns of a ``builtin_interfaces/Time``."""
+    return int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
+
+
+def _quaternion(theta: float) -> Quaternion:
+    x, y, z, w = yaw_to_quaternion(theta)
+    return Quaternion(x=x, y=y, z=z, w=w)
+
+
+def laser_scan_from_ranges(
+    ranges: ArrayLike, profile: RobotProfile, stamp: Time, frame_id: str
+) -> LaserScan:
+    """LaserScan of one robot's readings (m, profile sensor order; see the module docstring).
+
+    Readings beyond the sensor range become +inf. ``ValueError`` for a wrong count or NaN.
+    """
+    r = np.asarray(ranges, dtype=np.float64)
+    if r.shape != (profile.n_sensors,):
+        raise ValueError(
+            f"{r.size} ranges given, profile {profile.name!r} has {profile.n_sensors} sensors"
+        )
+    if np.isnan(r).any():
+        raise ValueError("NaN range reading")
+    if (r < 0.0).any():
+        raise ValueError("negative range reading")
+    geo = scan_geometry(profile)
+    r = np.where(r > geo.range_max, np.inf, r)
+    return LaserScan(
+        header=Header(stamp=stamp, frame_id=frame_id),
+        angle_min=geo.angle_min,
+        angle_max=geo.angle_max,
+        angle_increment=geo.angle_increment,
+        time_increment=0.0,
+        scan_time=0.0,
+        range_min=geo.range_min,
+        range_max=geo.range_max,
+        ranges=r.astype(np.float32).tolist(),
+    )
+
+
+def odometry_from_pose(
+    pose: Sequence[float], twist: Sequence[float], stamp: Time, ns: str
+) -> Odometry:
+    """Odometry of pose ``(x, y, theta)`` (m, m, rad) and body twist ``(v, omega)`` (m/s,
+    rad/s), frame ``odom`` -> ``<ns>/base_link``."""
+    x, y, theta = (float(v) for v in pose)
+    v, omega = (float(t) for t in twist)
+    msg = Odometry()
+    msg.header = Header(stamp=stamp, frame_id=ODOM_FRAME)
+    msg.child_frame_id = f"{ns}/base_link" if ns else "base_link"
+    msg.pose.pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=_quaternion(theta))
+    msg.twist.twist = Twist(linear=Vector3(x=v), angular=Vector3(z=omega))
+    return msg
+
+
+def pose_stamped_from_goal(goal: Sequence[float], stamp: Time) -> PoseStamped:
+    """Goal ``(x, y)`` (m) as a PoseStamped in ``map`` (identity orientation)."""
+    gx, gy = (float(v) for v in goal[:2])
+    return PoseStamped(
+        header=Header(stamp=stamp, frame_id=MAP_FRAME),
+        pose=Pose(position=Point(x=gx, y=gy, z=0.0), orientation=_quaternion(0.0)),
+    )
+
+
+def twist_to_action(msg: Twist, dt: float) -> tuple[float, float]:
+    """Decision ``(dtheta, ds)`` (rad, m) of a command held for ``dt`` s.
+
+    dtheta = angular.z dt, ds = linear.x dt (the other components are ignored: the robot is a
+    unicycle). ``ValueError`` for NaN/inf values or ``dt <= 0``.
+    """
+    wz, vx = float(msg.angular.z), float(msg.linear.x)
+    if not (math.isfinite(wz) and math.isfinite(vx)):
+        raise ValueError(f"non-finite velocity command (linear.x={vx}, angular.z={wz})")
+    dtheta, ds = observation.action_from_twist(wz, vx, dt)
+    return float(dtheta), float(ds)
+
+
+def markers_from_world(world: World, stamp: Time | None = None) -> MarkerArray:
+    """The arena outline (ns ``arena``) and one CUBE per obstacle (ns ``obstacles``, pose =
+    centre, scale = size, ``points`` = exact corners), frame ``map``; as in scenario bags."""
+    header = Header(stamp=stamp if stamp is not None else Time(), frame_id=MAP_FRAME)
+    arena = Marker(
+        header=header,
+        ns="arena",
+        id=0,
+        type=Marker.LINE_STRIP,
+        action=Marker.ADD,
+        pose=Pose(orientation=_quaternion(0.0)),
+        scale=Vector3(x=ARENA_LINE_WIDTH),
+        color=ColorRGBA(r=0.0, g=0.0, b=0.0, a=1.0),
+        points=[Point(x=x, y=y, z=z) for x, y, z in arena_outline(world.size)],
+    )
+    out = MarkerArray(markers=[arena])
+    for box in box_markers(world.obstacles):
+        cx, cy, cz = box.centre
+        sx, sy, sz = box.scale
+        out.markers.append(
+            Marker(
+                header=header,
+                ns="obstacles",
+                id=box.id,
+                type=Marker.CUBE,
+                action=Marker.ADD,
+                pose=Pose(position=Point(x=cx, y=cy, z=cz), orientation=_quaternion(0.0)),
+                scale=Vector3(x=sx, y=sy, z=sz),
+                color=ColorRGBA(r=0.5, g=0.5, b=0.5, a=1.0),
+                points=[Point(x=x, y=y, z=z) for x, y, z in box.corners],
+            )
+        )
+    return out

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Create or refresh the project's environment: .venv from requirements.lock (hash-pinned),
+# mentor_core installed editable, and the colcon workspace ros2_ws/ built.
+# Idempotent and quick when nothing changed. Sourced by scripts/demo.sh and scripts/test.sh.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="$ROOT/.venv"
+
+find_python() {
+  for cand in "${PYTHON:-}" python3.11 python3; do
+    [ -n "$cand" ] || continue
+    if command -v "$cand" >/dev/null 2>&1 &&
+       "$cand" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
+      echo "$cand"; return 0
+    fi
+  done
+  echo "bootstrap: Python 3.11 is required (set PYTHON=/path/to/python3.11)" >&2
+  return 1
+}
+
+if [ ! -x "$VENV/bin/python" ]; then
+  PY="$(find_python)"
+  if ! "$PY" -m venv "$VENV" 2>/dev/null; then
+    rm -rf "$VENV"
+    # Debian ships venv/ensurepip separately; install it when we may.
+    if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+      echo "bootstrap: installing python3-venv with apt-get" >&2
+      apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-venv >/dev/null
+      "$PY" -m venv "$VENV"
+    else
+      echo "bootstrap: '$PY -m venv' failed; install python3-venv (Debian: sudo apt-get install python3-venv)" >&2
+      exit 1
+    fi
+  fi
+fi
+
+STAMP="$VENV/.mentor-stamp"
+want="$(cat "$ROOT/requirements.lock" "$ROOT/mentor_core/pyproject.toml" | sha256sum | cut -d' ' -f1)"
+if [ "$(cat "$STAMP" 2>/dev/null)" != "$want" ]; then
+  echo "bootstrap: installing locked dependencies into .venv (first run takes a minute)" >&2
+  # (grep drops the noise of local pip mirrors some machines configure)
+  "$VENV/bin/python" -m pip install -q --disable-pip-version-check --require-hashes \
+    -r "$ROOT/requirements.lock" 2> >(grep -v 'is ignored: it is neither' >&2)
+  "$VENV/bin/python" -m pip install -q --disable-pip-version-check --no-deps \
+    --no-build-isolation -e "$ROOT/mentor_core"
+  echo "$want" > "$STAMP"
+fi
+
+# Build the ROS 2 workspace when a node package changed since the last build.
+WS="$ROOT/ros2_ws"
+WSTAMP="$WS/install/.mentor-stamp"
+wwant="$(cd "$ROOT" && find mentor_sim_node mentor_planner_node -type f \
+  -not -path '*/__pycache__/*' -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)"
+if [ "$(cat "$WSTAMP" 2>/dev/null)" != "$wwant" ]; then
+  echo "bootstrap: building the colcon workspace ros2_ws/" >&2
+  # colcon's output is kept for a failure only (setuptools warns on every clean build).
+  blog="$(mktemp)"
+  (cd "$WS" && rm -rf build install log &&
+   PATH="$VENV/bin:$PATH" "$VENV/bin/colcon" --log-base log build \
+     --event-handlers console_direct- >"$blog" 2>&1) ||
+    { cat "$blog" >&2; echo "bootstrap: colcon build failed; see ros2_ws/log/latest_build" >&2
+      exit 1; }
+  rm -f "$blog"
+  for pkg in mentor_sim_node mentor_planner_node; do
+    [ -d "$WS/install/$pkg" ] ||
+      { echo "bootstrap: colcon built no $pkg (is ros2_ws/src/$pkg a symlink?)" >&2; exit 1; }
+  done
+  echo "$wwant" > "$WSTAMP"
+fi

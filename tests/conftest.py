@@ -1,0 +1,37 @@
+"""Shared pytest setup.
+
+ROS 2 isolation: DDS discovery must never leave the loopback, and parallel test workers must
+never see each other's nodes. This is set here, at import time, before any test module can
+call ``rclpy.init``: ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` and a ``ROS_DOMAIN_ID`` of
+60 + the pytest-xdist worker number (60 without xdist). Subprocesses started by tests inherit
+both; :func:`ros_env` gives a copy of that environment for them.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+
+import pytest
+
+ROS_DOMAIN_BASE = 60
+
+
+def _worker_number() -> int:
+    match = re.fullmatch(r"gw(\d+)", os.environ.get("PYTEST_XDIST_WORKER", ""))
+    return int(match.group(1)) if match else 0
+
+
+ROS_DOMAIN_ID = ROS_DOMAIN_BASE + _worker_number()
+os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+os.environ["ROS_DOMAIN_ID"] = str(ROS_DOMAIN_ID)
+os.environ.pop("ROS_STATIC_PEERS", None)
+
+
+@pytest.fixture
+def ros_env() -> dict[str, str]:
+    """A copy of the test environment with localhost-only discovery and this worker's domain."""
+    env = dict(os.environ)
+    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    env["ROS_DOMAIN_ID"] = str(ROS_DOMAIN_ID)
+    return env

@@ -1,0 +1,181 @@
+"""EvolutionConfig: paper values, YAML round trip, unknown keys and bad values rejected."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import pytest
+import yaml
+
+from mentor_core.config import EvolutionConfig
+from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.mutation import MutationConfig
+from mentor_core.species import SpeciationConfig
+
+CONFIG_DIR = Path(__file__).resolve().parents[1] / "mentor_core/src/mentor_core/configs"
+
+
+@pytest.mark.parametrize(
+    ("robot", "node_rate", "edge_rate"), [("ugv", 0.05, 0.03), ("swarm", 0.08, 0.5)]
+)
+def test_paper_table_one(robot: str, node_rate: float, edge_rate: float) -> None:
+    c = EvolutionConfig.paper(robot)  # type: ignore[arg-type]
+    assert c.population_size == 100
+    assert c.generations == 50
+    assert c.elitism == 0.02
+    assert c.crossover_rate == 0.85
+    assert c.mutation.weight_rate == 0.25
+    assert c.mutation.node_rate == node_rate
+    assert c.mutation.edge_rate == edge_rate
+    assert (c.speciation.c1, c.speciation.c2, c.speciation.c3) == (1.0, 1.0, 0.4)
+
+
+def test_paper_unknown_robot() -> None:
+    with pytest.raises(ConfigError, match="robot"):
+        EvolutionConfig.paper("drone")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("name", "robot"), [("ugv_paper", "ugv"), ("swarm_paper", "swarm")])
+def test_shipped_paper_configs_equal_table_one(name: str, robot: str) -> None:
+    assert EvolutionConfig.from_yaml(CONFIG_DIR / f"{name}.yaml") == EvolutionConfig.paper(
+        robot  # type: ignore[arg-type]
+    )
+    assert EvolutionConfig.packaged(name) == EvolutionConfig.paper(robot)  # type: ignore[arg-type]
+
+
+def test_shipped_xor_config() -> None:
+    c = EvolutionConfig.packaged("xor")
+    assert c.population_size == 150
+    assert c.generations == 100
+    assert c == EvolutionConfig.from_yaml(CONFIG_DIR / "xor.yaml")
+    raw = yaml.safe_load((CONFIG_DIR / "xor.yaml").read_text())
+    assert c.mutation.node_rate == raw["mutation"]["node_rate"]
+    assert c.speciation.target_species == raw["speciation"]["target_species"]
+
+
+def test_defaults_are_the_ugv_case() -> None:
+    assert EvolutionConfig() == EvolutionConfig.paper("ugv")
+
+
+@pytest.mark.parametrize("name", ["ugv_paper", "swarm_paper", "xor"])
+def test_round_trip_dict_and_yaml(name: str, tmp_path: Path) -> None:
+    c = EvolutionConfig.packaged(name)
+    assert EvolutionConfig.from_dict(c.to_dict()) == c
+    path = tmp_path / "c.yaml"
+    path.write_text(c.to_yaml())
+    assert EvolutionConfig.from_yaml(path) == c
+
+
+def test_missing_keys_keep_defaults() -> None:
+    c = EvolutionConfig.from_dict({"population_size": 30, "mutation": {"node_rate": 0.2}})
+    assert c.population_size == 30
+    assert c.mutation == dataclasses.replace(MutationConfig(), node_rate=0.2)
+    assert c.speciation == SpeciationConfig()
+
+
+def test_int_accepted_for_float() -> None:
+    c = EvolutionConfig.from_dict({"crossover_rate": 1, "speciation": {"threshold": 2}})
+    assert c.crossover_rate == 1.0 and isinstance(c.crossover_rate, float)
+    assert c.speciation.threshold == 2.0
+
+
+@pytest.mark.parametrize(
+    ("data", "key"),
+    [
+        ({"populaton_size": 10}, "populaton_size"),
+        ({"mutation": {"node_rat": 0.1}}, "mutation.node_rat"),
+        ({"speciation": {"c4": 1.0}}, "speciation.c4"),
+    ],
+)
+def test_unknown_key_names_key_and_file(data: dict[str, object], key: str) -> None:
+    with pytest.raises(ConfigError) as info:
+        EvolutionConfig.from_dict(data, source="run.yaml")
+    assert info.value.key == key
+    assert info.value.path == "run.yaml"
+    assert "unknown key" in str(info.value)
+    assert str(info.value).startswith("run.yaml: ")
+
+
+@pytest.mark.parametrize(
+    ("data", "key"),
+    [
+        ({"population_size": 1}, "population_size"),
+        ({"population_size": 0}, "population_size"),
+        ({"population_size": 10.5}, "population_size"),
+        ({"population_size": True}, "population_size"),
+        ({"population_size": "100"}, "population_size"),
+        ({"generations": 0}, "generations"),
+        ({"elitism": -0.1}, "elitism"),
+        ({"elitism": 1.0}, "elitism"),
+        ({"crossover_rate": 1.5}, "crossover_rate"),
+        ({"crossover_rate": float("nan")}, "crossover_rate"),
+        ({"tournament_size": 0}, "tournament_size"),
+        ({"global_fraction": -0.5}, "global_fraction"),
+        ({"global_fraction": 0.99}, "global_fraction"),
+        ({"hidden_activation": "swish"}, "hidden_activation"),
+        ({"output_activation": 3}, "output_activation"),
+        ({"initial_weight_sigma": 0.0}, "initial_weight_sigma"),
+        ({"mutation": {"node_rate": 1.5}}, "mutation.node_rate"),
+        ({"mutation": {"weight_rate": "high"}}, "mutation.weight_rate"),
+        ({"mutation": [1, 2]}, "mutation"),
+        ({"speciation": {"threshold": -1.0}}, "speciation.threshold"),
+        ({"speciation": {"target_species": 0}}, "speciation.target_species"),
+        ({"speciation": {"target_species": 2.5}}, "speciation.target_species"),
+    ],
+)
+def test_bad_values_rejected(data: dict[str, object], key: str) -> None:
+    with pytest.raises(ConfigError) as info:
+        EvolutionConfig.from_dict(data, source="bad.yaml")
+    assert info.value.key == key
+    assert info.value.path == "bad.yaml"
+    assert "\n" not in str(info.value)
+
+
+def test_direct_construction_is_validated() -> None:
+    with pytest.raises(ConfigError, match="elitism"):
+        EvolutionConfig(elitism=2.0)
+
+
+def test_elites_and_global_must_leave_room() -> None:
+    with pytest.raises(ConfigError, match="global_fraction"):
+        EvolutionConfig(population_size=10, elitism=0.5, global_fraction=0.5)
+
+
+def test_config_is_frozen() -> None:
+    c = EvolutionConfig()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        c.population_size = 3  # type: ignore[misc]
+
+
+def test_top_level_must_be_mapping() -> None:
+    with pytest.raises(ConfigError, match="mapping"):
+        EvolutionConfig.from_dict([1, 2], source="x.yaml")  # type: ignore[arg-type]
+
+
+def test_from_yaml_missing_file(tmp_path: Path) -> None:
+    with pytest.raises(FileFormatError) as info:
+        EvolutionConfig.from_yaml(tmp_path / "nope.yaml")
+    assert "nope.yaml" in str(info.value)
+    assert "no such file" in str(info.value)
+
+
+def test_from_yaml_bad_yaml(tmp_path: Path) -> None:
+    path = tmp_path / "bad.yaml"
+    path.write_text("population_size: [1, 2\n")
+    with pytest.raises(FileFormatError, match="invalid YAML"):
+        EvolutionConfig.from_yaml(path)
+
+
+def test_from_yaml_unknown_key_names_file(tmp_path: Path) -> None:
+    path = tmp_path / "typo.yaml"
+    path.write_text("populaton_size: 10\n")
+    with pytest.raises(ConfigError) as info:
+        EvolutionConfig.from_yaml(path)
+    assert info.value.path == str(path)
+
+
+def test_empty_yaml_is_defaults(tmp_path: Path) -> None:
+    path = tmp_path / "empty.yaml"
+    path.write_text("")
+    assert EvolutionConfig.from_yaml(path) == EvolutionConfig()

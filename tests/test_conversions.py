@@ -1,0 +1,169 @@
+"""Message conversions of both node packages, tested without a running ROS graph."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+for pkg in ("mentor_sim_node", "mentor_planner_node"):
+    if str(ROOT / pkg) not in sys.path:
+        sys.path.insert(0, str(ROOT / pkg))
+
+from geometry_msgs.msg import Twist, Vector3  # noqa: E402
+from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
+from sensor_msgs.msg import LaserScan  # noqa: E402
+
+from mentor_core.observation import network_inputs  # noqa: E402
+from mentor_core.robots import RobotProfile, get_profile  # noqa: E402
+from mentor_core.world import World  # noqa: E402
+from mentor_planner_node import conversions as planner  # noqa: E402
+from mentor_sim_node import conversions as sim  # noqa: E402
+
+
+@pytest.fixture
+def ugv() -> RobotProfile:
+    return get_profile("ugv")
+
+
+@pytest.fixture
+def swarm() -> RobotProfile:
+    return get_profile("swarm")
+
+
+def test_time_stamps_convert_both_ways() -> None:
+    t = sim.time_from_ns(12_345_678_901)
+    assert (t.sec, t.nanosec) == (12, 345_678_901)
+    assert sim.ns_from_time(t) == 12_345_678_901
+    with pytest.raises(ValueError):
+        sim.time_from_ns(-1)
+
+
+def test_scan_carries_inf_and_the_profile_geometry(ugv: RobotProfile) -> None:
+    ranges = np.array([0.5, np.inf, 3.99, 4.0, 4.5, 0.0, 1.25, 2.0])
+    msg = sim.laser_scan_from_ranges(ranges, ugv, sim.time_from_ns(2_000_000_000), "r/base_link")
+    assert msg.header.frame_id == "r/base_link" and msg.header.stamp.sec == 2
+    assert msg.range_min == 0.0 and msg.range_max == pytest.approx(4.0)
+    assert msg.angle_increment == 0.0  # UGV mounts are irregular (pairs per edge)
+    assert msg.angle_min == pytest.approx(ugv.sensors[0].angle)
+    assert msg.angle_max == pytest.approx(ugv.sensors[-1].angle)
+    got = np.array(msg.ranges)
+    assert np.isposinf(got[1]) and np.isposinf(got[4])  # beyond range -> +inf (REP-117)
+    assert got[3] == pytest.approx(4.0) and got[0] == pytest.approx(0.5)
+
+
+def test_scan_of_evenly_spaced_mounts_has_an_increment(swarm: RobotProfile) -> None:
+    msg = sim.laser_scan_from_ranges([0.1, 0.2, np.inf], swarm, sim.time_from_ns(0), "b")
+    assert msg.angle_increment == pytest.approx(math.pi / 4)
+    assert msg.angle_min == pytest.approx(-math.pi / 4)
+    assert msg.angle_max == pytest.approx(math.pi / 4)
+
+
+def test_scan_rejects_bad_readings(ugv: RobotProfile) -> None:
+    t = sim.time_from_ns(0)
+    with pytest.raises(ValueError, match="8 sensors"):
+        sim.laser_scan_from_ranges([1.0, 2.0], ugv, t, "b")
+    with pytest.raises(ValueError, match="NaN"):
+        sim.laser_scan_from_ranges([math.nan] + [1.0] * 7, ugv, t, "b")
+    with pytest.raises(ValueError, match="negative"):
+        sim.laser_scan_from_ranges([-1.0] + [1.0] * 7, ugv, t, "b")
+
+
+def test_scan_survives_the_wire_and_feeds_the_shared_input_function(ugv: RobotProfile) -> None:
+    ranges = np.array([0.5, np.inf, 3.5, 1.0, 2.0, 0.25, 1.5, 3.0])
+    msg = sim.laser_scan_from_ranges(ranges, ugv, sim.time_from_ns(0), "b")
+    wire = deserialize_message(serialize_message(msg), LaserScan)
+    got = planner.ranges_from_scan(wire, ugv)
+    assert got.dtype == np.float64 and got.shape == (8,)
+    assert np.isposinf(got[1])  # kept: the shared input function clips it
+    np.testing.assert_array_equal(got, ranges.astype(np.float32).astype(np.float64))
+    inputs = network_inputs(got[None], np.array([[1.0, 1.0, 0.0]]), np.array([[5.0, 5.0]]), ugv)
+    assert inputs[0, 1] == ugv.sensor_range
+
+
+def test_planner_rejects_a_bad_scan(ugv: RobotProfile, swarm: RobotProfile) -> None:
+    msg = sim.laser_scan_from_ranges([0.1, 0.2, 0.3], swarm, sim.time_from_ns(0), "b")
+    with pytest.raises(ValueError, match="8 sensors"):
+        planner.ranges_from_scan(msg, ugv)
+    msg.ranges[1] = math.nan
+    with pytest.raises(ValueError, match="NaN"):
+        planner.ranges_from_scan(msg, swarm)
+
+
+@pytest.mark.parametrize("theta", [0.0, 1.0, -2.5, math.pi, -math.pi / 2, 3.1])
+def test_odometry_round_trip(theta: float) -> None:
+    pose = (3.25, 7.125, theta)
+    msg = sim.odometry_from_pose(pose, (0.5, -0.25), sim.time_from_ns(1_500_000_000), "robot_0")
+    assert msg.header.frame_id == "odom" and msg.child_frame_id == "robot_0/base_link"
+    assert msg.twist.twist.linear.x == 0.5 and msg.twist.twist.angular.z == -0.25
+    x, y, th = planner.pose_from_odometry(msg)
+    assert (x, y) == pose[:2]
+    assert abs(math.remainder(th - theta, 2 * math.pi)) <= 1e-12
+    assert -math.pi < th <= math.pi
+
+
+def test_odometry_rejects_garbage() -> None:
+    msg = sim.odometry_from_pose((1.0, 1.0, 0.0), (0.0, 0.0), sim.time_from_ns(0), "r")
+    msg.pose.pose.orientation.w = 0.0
+    with pytest.raises(ValueError, match="zero quaternion"):
+        planner.pose_from_odometry(msg)
+    msg.pose.pose.position.x = math.inf
+    with pytest.raises(ValueError, match="not finite"):
+        planner.pose_from_odometry(msg)
+
+
+def test_goal_round_trip_and_frame_check() -> None:
+    msg = sim.pose_stamped_from_goal((10.5, 1.0 / 3.0), sim.time_from_ns(0))
+    assert msg.header.frame_id == "map"
+    assert planner.goal_from_pose_stamped(msg) == (10.5, 1.0 / 3.0)
+    msg.header.frame_id = "odom"
+    with pytest.raises(ValueError, match="frame"):
+        planner.goal_from_pose_stamped(msg)
+
+
+def test_action_twist_round_trip() -> None:
+    dt = 0.5
+    twist = planner.twist_from_action(-1.2, 0.75, dt)
+    assert twist.angular.z == pytest.approx(-2.4) and twist.linear.x == pytest.approx(1.5)
+    dtheta, ds = sim.twist_to_action(twist, dt)
+    assert dtheta == pytest.approx(-1.2, abs=1e-15) and ds == pytest.approx(0.75, abs=1e-15)
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_non_finite_commands_are_refused(bad: float) -> None:
+    with pytest.raises(ValueError):
+        sim.twist_to_action(Twist(linear=Vector3(x=bad)), 1.0)
+    with pytest.raises(ValueError):
+        sim.twist_to_action(Twist(angular=Vector3(z=bad)), 1.0)
+    with pytest.raises(ValueError):
+        planner.twist_from_action(bad, 0.5, 1.0)
+    with pytest.raises(ValueError):
+        planner.twist_from_action(0.1, bad, 1.0)
+
+
+@pytest.mark.parametrize("dt", [0.0, -1.0, math.nan])
+def test_bad_control_period_is_refused(dt: float) -> None:
+    with pytest.raises(ValueError):
+        sim.twist_to_action(Twist(), dt)
+    with pytest.raises(ValueError):
+        planner.twist_from_action(0.1, 0.5, dt)
+
+
+def test_markers_describe_the_world_exactly() -> None:
+    world = World(size=12.0, obstacles=np.array([[0.1, 0.2, 0.7, 0.3], [5.0, 5.0, 6.0, 8.0]]))
+    arr = sim.markers_from_world(world)
+    arena = [m for m in arr.markers if m.ns == "arena"]
+    cubes = [m for m in arr.markers if m.ns == "obstacles"]
+    assert len(arena) == 1 and len(arena[0].points) == 5
+    assert max(p.x for p in arena[0].points) == 12.0
+    assert [m.id for m in cubes] == [0, 1]
+    assert all(m.type == m.CUBE and m.header.frame_id == "map" for m in cubes)
+    c = cubes[1]
+    assert (c.pose.position.x, c.pose.position.y) == (5.5, 6.5)
+    assert (c.scale.x, c.scale.y) == (1.0, 3.0)
+    corners = [[p.x, p.y] for p in cubes[0].points]
+    assert corners == [[0.1, 0.2], [0.7, 0.3]]  # exact, unlike centre +- size / 2

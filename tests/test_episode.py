@@ -1,0 +1,97 @@
+"""Episodes: termination, time accounting, trajectories, experience points, one world."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mentor_core.episode import run_episodes
+from mentor_core.robots import get_profile
+from mentor_core.world import Scenario, World
+
+UGV = get_profile("ugv")  # dt 1 s, goal radius 1 m, ds in [0.1, 2] m, budget 2 d / (1 m/s)
+WORLD = World(size=12.0, obstacles=np.array([[6.0, 1.0, 7.0, 3.0]]))
+SCENARIOS = [
+    Scenario(WORLD, (1.0, 6.0, 0.0), (9.0, 6.0)),   # 0: straight run, 8 m
+    Scenario(WORLD, (4.0, 2.0, 0.0), (10.0, 2.0)),  # 1: box in the way
+    Scenario(WORLD, (1.0, 10.0, 0.0), (1.0, 2.0)),  # 2: goal behind the left shoulder
+]
+
+
+def straight(inputs: np.ndarray, robots: np.ndarray) -> np.ndarray:
+    """Full speed, no turn (outputs 0.5 -> dtheta 0, 1.0 -> ds = step_max)."""
+    return np.tile([0.5, 1.0], (len(robots), 1))
+
+
+def test_outcomes_time_and_trajectories() -> None:
+    batch = run_episodes(SCENARIOS, UGV, straight)
+    np.testing.assert_array_equal(batch.reached, [True, False, False])
+    np.testing.assert_array_equal(batch.collided, [False, True, True])
+    np.testing.assert_array_equal(batch.timed_out, [False, False, False])
+    np.testing.assert_allclose(batch.time_budget, [16.0, 12.0, 16.0])
+    # 0 reaches x = 8 (1 m short of the goal) 0.5 s into its 4th decision
+    assert batch.steps[0] == 4
+    assert batch.time_used[0] == pytest.approx(3.5, abs=2.0 / 32)
+    assert batch.final_distance[0] <= UGV.goal_radius
+    np.testing.assert_allclose(batch.time_remaining, [16.0 - batch.time_used[0], 0.0, 0.0])
+    # 1 stops short of the box face at x = 6
+    assert 5.85 - 2.0 / 32 <= batch.trajectories[1, -1, 0] <= 5.85
+    assert batch.trajectories.shape == (3, batch.steps.max() + 1, 3)
+    np.testing.assert_array_equal(batch.trajectories[:, 0], [s.start for s in SCENARIOS])
+    for i, k in enumerate(batch.steps):  # padded with the final pose
+        assert (batch.trajectories[i, k:] == batch.trajectories[i, -1]).all()
+
+
+def test_experience_points_chain_and_carry_the_actions() -> None:
+    batch = run_episodes(SCENARIOS, UGV, straight)
+    k = UGV.n_sensors
+    for i, points in enumerate(batch.experience):
+        assert points.shape == (batch.steps[i], 2 * k + 2)
+        np.testing.assert_array_equal(points[1:, :k], points[:-1, k + 2:])  # U(t+1) -> U(t)
+        np.testing.assert_allclose(points[:, k:k + 2], np.tile([0.0, 2.0], (len(points), 1)))
+        assert (points[:, :k] <= UGV.sensor_range).all() and np.isfinite(points).all()
+
+
+def test_time_out_and_policy_sees_only_active_robots() -> None:
+    seen: list[np.ndarray] = []
+
+    def spin(inputs: np.ndarray, robots: np.ndarray) -> np.ndarray:
+        assert inputs.shape == (len(robots), UGV.n_inputs)
+        seen.append(robots.copy())
+        return np.tile([1.0, 0.0], (len(robots), 1))  # half turn, 0.1 m: circles in place
+
+    batch = run_episodes(SCENARIOS[:1] * 3, UGV, spin, time_budgets=[2.0, 5.0, 0.5])
+    np.testing.assert_array_equal(batch.steps, [2, 5, 1])
+    np.testing.assert_array_equal(batch.timed_out, [True] * 3)
+    np.testing.assert_allclose(batch.time_used, [2.0, 5.0, 1.0])
+    assert [r.tolist() for r in seen] == [[0, 1, 2], [0, 1], [1], [1], [1]]
+    capped = run_episodes(SCENARIOS[:1] * 2, UGV, spin, max_steps=3)
+    np.testing.assert_array_equal(capped.steps, [3, 3])
+
+
+def test_deterministic_and_backends_agree() -> None:
+    rng = np.random.default_rng(0)
+    weights = rng.normal(size=(UGV.n_inputs, 2))
+
+    def linear(inputs: np.ndarray, robots: np.ndarray) -> np.ndarray:
+        return 1.0 / (1.0 + np.exp(-inputs @ weights))
+
+    runs = [run_episodes(SCENARIOS * 4, UGV, linear, backend=b) for b in ("auto", "numpy")]
+    runs.append(run_episodes(SCENARIOS * 4, UGV, linear))
+    for other in runs[1:]:
+        np.testing.assert_array_equal(runs[0].trajectories, other.trajectories)
+        np.testing.assert_array_equal(runs[0].time_used, other.time_used)
+
+
+def test_one_world_only_and_empty_input() -> None:
+    other = World(size=12.0)
+    with pytest.raises(ValueError, match="world"):
+        run_episodes([SCENARIOS[0], Scenario(other, (1.0, 1.0, 0.0), (5.0, 5.0))], UGV, straight)
+    with pytest.raises(ValueError):
+        run_episodes([], UGV, straight)
+
+
+def test_start_inside_the_goal_radius_is_reached_without_a_decision() -> None:
+    batch = run_episodes([Scenario(WORLD, (3.0, 6.0, 0.0), (3.5, 6.0))], UGV, straight)
+    assert batch.reached[0] and batch.steps[0] == 0 and batch.time_used[0] == 0.0
+    assert batch.experience[0].shape == (0, 2 * UGV.n_sensors + 2)

@@ -1,0 +1,131 @@
+"""Tests of mentor_core.experience against scipy's dense minimum spanning tree."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+from scipy.sparse import coo_array
+from scipy.sparse.csgraph import minimum_spanning_tree
+from scipy.spatial.distance import pdist
+
+from mentor_core.experience import METHODS, experience_gain, experience_gains
+
+SENSOR_RANGE = 4.0
+
+
+def scipy_mst_length(points: np.ndarray) -> float:
+    """Reference: scipy's MST of the complete graph on the unique rows.
+
+    Duplicates go first: zero distances would be missing edges. The graph is passed as sparse
+    with every pair explicit, because scipy masks dense entries within 1e-8 of zero (tiny but
+    real distances would be dropped too).
+    """
+    unique = np.unique(np.asarray(points, dtype=float) + 0.0, axis=0)
+    if len(unique) < 2:
+        return 0.0
+    rows, cols = np.triu_indices(len(unique), k=1)
+    graph = coo_array((pdist(unique), (rows, cols)), shape=(len(unique),) * 2)
+    return float(minimum_spanning_tree(graph.tocsr()).sum())
+
+
+def sensor_like(rng: np.random.Generator, n: int, n_sensors: int) -> np.ndarray:
+    """[U(t), A(t), U(t+1)] with most readings at the clip value and repeated decisions."""
+    readings = np.clip(rng.uniform(-2.0, 10.0, size=(n + 1, n_sensors)), 0.0, SENSOR_RANGE)
+    actions = np.column_stack([rng.integers(-2, 3, n) * 0.5, rng.integers(1, 4, n) * 0.5])
+    points = np.hstack([readings[:-1], actions, readings[1:]])
+    points[n // 2 : n // 2 + 20] = points[:1]  # a robot stuck in one place repeats itself
+    return points
+
+
+def assert_all_methods_match(points: np.ndarray) -> None:
+    expected = scipy_mst_length(points)
+    for method in METHODS:
+        assert experience_gain(points, method) == pytest.approx(expected, rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize(("n", "d"), [(2, 1), (3, 2), (40, 2), (300, 8), (600, 18)])
+def test_random_points_match_scipy(n: int, d: int) -> None:
+    assert_all_methods_match(np.random.default_rng(n + d).normal(size=(n, d)))
+
+
+@pytest.mark.parametrize("n_sensors", [3, 8])
+def test_clipped_sensor_points_match_scipy(n_sensors: int) -> None:
+    assert_all_methods_match(sensor_like(np.random.default_rng(n_sensors), 500, n_sensors))
+
+
+def test_integer_grid_with_ties_and_duplicates() -> None:
+    grid = np.stack(np.meshgrid(*[np.arange(3.0)] * 4), axis=-1).reshape(-1, 4)
+    rng = np.random.default_rng(4)
+    points = np.vstack([grid, grid[rng.integers(0, 81, 300)]])
+    rng.shuffle(points)
+    # 81 distinct grid cells, all neighbours 1 apart: the MST has 80 unit edges
+    assert_all_methods_match(points)
+    for method in METHODS:
+        assert experience_gain(points, method) == pytest.approx(80.0, rel=0, abs=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    arrays(
+        np.float64,
+        st.tuples(st.integers(0, 40), st.integers(1, 5)),
+        elements=st.one_of(st.integers(-2, 2).map(float), st.floats(-10, 10, width=32)),
+    )
+)
+def test_hypothesis_points_match_scipy(points: np.ndarray) -> None:
+    assert_all_methods_match(points)
+
+
+def test_small_cases() -> None:
+    for method in METHODS:
+        assert experience_gain(np.empty((0, 18)), method) == 0.0
+        assert experience_gain(np.ones((1, 18)), method) == 0.0
+        assert experience_gain(np.ones((5, 3)), method) == 0.0  # one distinct point
+        assert experience_gain([[0.0, 0.0], [3.0, 4.0]], method) == 5.0
+        assert experience_gain([[0.0, -0.0], [0.0, 0.0], [1.0, 0.0]], method) == 1.0
+
+
+def test_duplicates_do_not_change_the_gain() -> None:
+    points = np.random.default_rng(1).random((200, 6))
+    doubled = np.vstack([points, points[::3]])
+    np.random.default_rng(2).shuffle(doubled)
+    for method in METHODS:
+        assert experience_gain(doubled, method) == pytest.approx(
+            experience_gain(points, method), rel=1e-12
+        )
+
+
+def test_gain_grows_with_spread() -> None:
+    points = np.random.default_rng(3).random((100, 5))
+    assert experience_gain(2.0 * points) == pytest.approx(2.0 * experience_gain(points))
+
+
+def test_batch_equals_single_calls() -> None:
+    rng = np.random.default_rng(6)
+    sets = [sensor_like(rng, n, 8) for n in (0, 1, 50, 300, 120)]
+    for method in METHODS:
+        single = np.array([experience_gain(points, method) for points in sets])
+        np.testing.assert_array_equal(experience_gains(sets, method), single)
+    mixed = [rng.random((30, 2)), rng.random((20, 5))]  # different dimensions
+    np.testing.assert_array_equal(
+        experience_gains(mixed), [experience_gain(points) for points in mixed]
+    )
+    assert experience_gains([]).shape == (0,)
+
+
+@pytest.mark.parametrize(
+    "bad", [np.array([[0.0, np.nan]]), np.array([[np.inf, 0.0]]), np.zeros(5), np.zeros((2, 2, 2))]
+)
+def test_bad_points_raise(bad: np.ndarray) -> None:
+    with pytest.raises(ValueError):
+        experience_gain(bad)
+    with pytest.raises(ValueError):
+        experience_gains([np.zeros((3, 2)), bad])
+
+
+def test_unknown_method_raises() -> None:
+    with pytest.raises(ValueError):
+        experience_gain(np.zeros((3, 2)), "kruskal")  # type: ignore[arg-type]

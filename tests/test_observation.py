@@ -1,0 +1,118 @@
+"""The one input/output function: network inputs, actions, twists and experience points."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mentor_core.observation import (
+    action_from_twist,
+    actions_from_outputs,
+    clip_ranges,
+    experience_point,
+    network_inputs,
+    signal_gradient,
+    twist_from_action,
+)
+from mentor_core.robots import get_profile
+
+SWARM = get_profile("swarm")
+UGV = get_profile("ugv")
+
+
+def test_ranges_are_clipped_and_inf_becomes_range_max() -> None:
+    out = clip_ranges([[0.1, math.inf, 0.9]], SWARM)
+    np.testing.assert_array_equal(out, [[0.1, 0.6, 0.6]])
+
+
+@pytest.mark.parametrize(
+    ("ranges", "match"),
+    [([[0.1, math.nan, 0.2]], "NaN"), ([[0.1, -0.01, 0.2]], "negative"), ([[0.1, 0.2]], "3")],
+)
+def test_bad_ranges_raise(ranges: list[list[float]], match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        network_inputs(ranges, [(0, 0, 0)], [(1, 1)], SWARM)
+
+
+def test_network_inputs_layout_and_values() -> None:
+    ranges = [[0.2, math.inf, 0.3], [0.6, 0.5, 0.4]]
+    poses = [(1.0, 1.0, 3 * math.pi / 2), (2.0, 2.0, -math.pi)]
+    goals = [(1.0, 3.0), (2.1, 2.0)]
+    x = network_inputs(ranges, poses, goals, SWARM)
+    assert x.shape == (2, SWARM.n_inputs)
+    np.testing.assert_allclose(x[:, :3], [[0.2, 0.6, 0.3], [0.6, 0.5, 0.4]])
+    r = SWARM.goal_radius
+    # goal 2 m straight up: (0, R^2 / d^2); goal inside the radius: unit vector
+    np.testing.assert_allclose(x[0, 3:5], [0.0, r**2 / 4.0], atol=1e-15)
+    np.testing.assert_allclose(x[1, 3:5], [1.0, 0.0])
+    np.testing.assert_allclose(x[:, 5], [-math.pi / 2, math.pi])
+
+
+def test_gradient_is_the_scaled_gradient_of_one_over_d_outside_the_radius() -> None:
+    rng = np.random.default_rng(0)
+    p = rng.uniform(0, 10, (50, 2))
+    g = rng.uniform(0, 10, (50, 2))
+    keep = np.hypot(*(g - p).T) > 1.5
+    p, g = p[keep], g[keep]
+    eps = 1e-6
+
+    def signal(q: np.ndarray) -> np.ndarray:
+        return 1.0 / np.hypot(*(g - q).T)
+
+    fd = np.stack(
+        [(signal(p + e) - signal(p - e)) / (2 * eps) for e in (np.array([eps, 0]),
+                                                                np.array([0, eps]))],
+        axis=1,
+    )
+    np.testing.assert_allclose(signal_gradient(p, g, 1.0), fd, rtol=1e-5)
+    np.testing.assert_array_equal(signal_gradient([(3.0, 4.0)], [(3.0, 4.0)], 1.0), [[0, 0]])
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(
+    st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+    st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+    st.floats(0.01, 5.0),
+)
+def test_gradient_is_bounded_and_points_at_the_goal(
+    p: tuple[float, float], g: tuple[float, float], radius: float
+) -> None:
+    grad = signal_gradient([p], [g], radius)[0]
+    assert np.hypot(*grad) <= 1.0 + 1e-12
+    assert grad @ (np.array(g) - np.array(p)) >= 0.0
+
+
+def test_actions_from_outputs_map_linearly_and_clip() -> None:
+    dtheta, ds = actions_from_outputs([[0, 0], [1, 1], [0.5, 0.5], [-3, 7]], UGV)
+    np.testing.assert_allclose(dtheta, [-math.pi, math.pi, 0.0, -math.pi])
+    np.testing.assert_allclose(ds, [0.1, 2.0, 1.05, 2.0])
+    with pytest.raises(ValueError, match="NaN"):
+        actions_from_outputs([[0.5, math.nan]], UGV)
+    with pytest.raises(ValueError, match="shape"):
+        actions_from_outputs([[0.5, 0.5, 0.5]], UGV)
+
+
+def test_twist_round_trip() -> None:
+    wz, vx = twist_from_action(np.array([0.5, -1.0]), np.array([0.04, 0.08]), 2.0)
+    np.testing.assert_allclose(wz, [0.25, -0.5])
+    np.testing.assert_allclose(vx, [0.02, 0.04])
+    dtheta, ds = action_from_twist(wz, vx, 2.0)
+    np.testing.assert_allclose(dtheta, [0.5, -1.0])
+    np.testing.assert_allclose(ds, [0.04, 0.08])
+    assert float(twist_from_action(math.pi, 2.0, 1.0)[0]) == math.pi
+    with pytest.raises(ValueError, match="control period"):
+        twist_from_action(0.1, 0.1, 0.0)
+
+
+def test_experience_point_concatenates_clipped_state_and_action() -> None:
+    v = experience_point([[0.1, math.inf, 0.2]], [[0.3, 0.05]], [[0.9, 0.4, 0.5]], SWARM)
+    np.testing.assert_allclose(v, [[0.1, 0.6, 0.2, 0.3, 0.05, 0.6, 0.4, 0.5]])
+    assert v.shape == (1, 2 * SWARM.n_sensors + 2)
+    with pytest.raises(ValueError, match="NaN"):
+        experience_point([[0.1, 0.1, 0.2]], [[0.3, 0.05]], [[math.nan, 0.4, 0.5]], SWARM)
+    with pytest.raises(ValueError, match="actions"):
+        experience_point([[0.1, 0.1, 0.2]], [[0.3]], [[0.1, 0.4, 0.5]], SWARM)

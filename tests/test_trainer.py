@@ -1,0 +1,130 @@
+"""The trainer: run directory, dual-stage switch, resume, backends, bad configs."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.evaluators import InProcessEvaluator, PoolEvaluator
+from mentor_core.genome_io import load_genome
+from mentor_core.trainer import TrainerConfig, load_population, make_problem, train
+
+TINY = {
+    "robot": "swarm",
+    "framework": "dual",
+    "generations": 4,
+    "stage1_generations": 2,
+    "n_scenarios": 3,
+    "evolution": {"population_size": 8},
+}
+
+
+def tiny(**changes: object) -> TrainerConfig:
+    return TrainerConfig.from_dict({**TINY, **changes})
+
+
+def history_rows(run: Path) -> list[dict[str, str]]:
+    with (run / "history.csv").open() as handle:
+        return list(csv.DictReader(handle))
+
+
+def without_seconds(rows: list[dict[str, str]]) -> list[dict[str, str]]:
+    return [{k: v for k, v in r.items() if k != "seconds"} for r in rows]
+
+
+@pytest.fixture(scope="module")
+def dual_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("dual")
+    train(tiny(), out, seed=3)
+    return out
+
+
+def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
+    for name in ("config.yaml", "checkpoint.json", "history.csv", "population.json",
+                 "pareto.json", "best_genome.json"):
+        assert (dual_run / name).is_file(), name
+    rows = history_rows(dual_run)
+    assert [r["mode"] for r in rows] == ["multi", "multi", "single", "single"]
+    assert [int(r["evaluations"]) for r in rows] == [8, 16, 24, 32]
+    members = load_population(dual_run / "population.json")
+    assert len(members) == 8
+    genome = load_genome(dual_run / "best_genome.json")
+    assert genome.n_inputs == 6 and genome.n_outputs == 2
+    pareto = json.loads((dual_run / "pareto.json").read_text())
+    assert pareto["front"] and len(pareto["points"]) == 8
+
+
+def test_single_and_dual_get_the_same_evaluations(dual_run: Path, tmp_path: Path) -> None:
+    train(tiny(framework="single"), tmp_path, seed=3)
+    single = history_rows(tmp_path)
+    assert [r["evaluations"] for r in single] == [r["evaluations"] for r in history_rows(dual_run)]
+    assert {r["mode"] for r in single} == {"single"}
+
+
+def test_resume_ends_identical_to_an_unbroken_run(dual_run: Path, tmp_path: Path) -> None:
+    train(tiny(), tmp_path, seed=3, stop_after=1)  # "killed" in stage 1
+    train(tiny(), tmp_path, seed=3, resume=True, stop_after=2)  # killed again in stage 2
+    train(tiny(), tmp_path, seed=3, resume=True)
+    assert without_seconds(history_rows(tmp_path)) == without_seconds(history_rows(dual_run))
+    assert (tmp_path / "best_genome.json").read_text() == (
+        dual_run / "best_genome.json"
+    ).read_text()
+
+
+def test_existing_run_is_not_overwritten_without_resume(dual_run: Path) -> None:
+    before = (dual_run / "history.csv").read_text()
+    with pytest.raises(FileFormatError, match="already holds a run"):
+        train(tiny(), dual_run, seed=3)
+    assert (dual_run / "history.csv").read_text() == before
+
+
+def test_resume_with_another_seed_is_refused(dual_run: Path) -> None:
+    with pytest.raises(FileFormatError, match="different config or seed"):
+        train(tiny(), dual_run, seed=4, resume=True)
+
+
+def test_pool_backend_is_bit_identical_to_in_process() -> None:
+    config = tiny()
+    problem = make_problem(config)
+    from mentor_core.evolution import Evolution
+
+    evo = Evolution(config.evolution, problem.n_inputs, 2, seed=0, objectives=2)
+    genomes = evo.ask()
+    serial = InProcessEvaluator(problem).evaluate(genomes)
+    with PoolEvaluator(problem, workers=2) as pool:
+        parallel = pool.evaluate(genomes)
+    assert np.array_equal(serial.objectives, parallel.objectives)
+    assert np.array_equal(serial.success_rate, parallel.success_rate)
+
+
+@pytest.mark.parametrize(
+    ("changes", "key"),
+    [
+        ({"framework": "triple"}, "framework"),
+        ({"stage1_generations": 4}, "stage1_generations"),
+        ({"generations": 0}, "generations"),
+        ({"stage2_seed_fraction": 0.0}, "stage2_seed_fraction"),
+        ({"bogus": 1}, "bogus"),
+    ],
+)
+def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:
+    with pytest.raises(ConfigError, match=key):
+        tiny(**changes)
+
+
+def test_config_file_round_trip_and_errors(tmp_path: Path) -> None:
+    import yaml
+
+    path = tmp_path / "cfg.yaml"
+    path.write_text(yaml.safe_dump(tiny().to_dict()))
+    assert TrainerConfig.from_yaml(path) == tiny()
+    path.write_text("robot: [unclosed\n")
+    with pytest.raises(FileFormatError, match=r"cfg\.yaml"):
+        TrainerConfig.from_yaml(path)
+    with pytest.raises(FileFormatError, match="no such file"):
+        TrainerConfig.from_yaml(tmp_path / "missing.yaml")
