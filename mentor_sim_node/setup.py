@@ -18,5 +18,10 @@ setup(
     maintainer_email="mentor@example.org",
     description="MENTOR suite: the sim node.",
     license="Apache-2.0",
-    entry_points={"console_scripts": ["sim = mentor_sim_node.sim:main"]},
+    entry_points={
+        "console_scripts": [
+            "sim = mentor_sim_node.sim:main",
+            "demo = mentor_sim_node.demo:main",
+        ]
+    },
 )

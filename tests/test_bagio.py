@@ -443,3 +443,16 @@ def test_truncated_copy_of_a_good_bag_does_not_affect_the_original(
     mcap.write_bytes(mcap.read_bytes()[:100])
     assert_fault(tmp_path / "cut", read_scenario_bag)
     assert read_scenario_bag(tmp_path / "good")[0] == world
+
+
+def test_episode_bag_carries_its_world(tmp_path: Path, ugv: RobotProfile, world: World) -> None:
+    path = tmp_path / "with_world"
+    write_episode_bag(path, episode_robots(ugv), ugv, {"k": 1}, world=world)
+    log = read_episode_bag(path)
+    assert log.world is not None and log.world == world
+    np.testing.assert_array_equal(log.world.obstacles, world.obstacles)  # exact corners
+    with AnyReader([path], default_typestore=TS) as reader:
+        assert "/mentor/obstacles" in {c.topic for c in reader.connections}
+    # without a world there is no obstacle topic and no world read back
+    write_episode_bag(tmp_path / "plain", episode_robots(ugv), ugv)
+    assert read_episode_bag(tmp_path / "plain").world is None

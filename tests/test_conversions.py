@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 from pathlib import Path
@@ -17,6 +18,7 @@ for pkg in ("mentor_sim_node", "mentor_planner_node"):
 from geometry_msgs.msg import Twist, Vector3  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from sensor_msgs.msg import LaserScan  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
 
 from mentor_core.observation import network_inputs  # noqa: E402
 from mentor_core.robots import RobotProfile, get_profile  # noqa: E402
@@ -167,3 +169,25 @@ def test_markers_describe_the_world_exactly() -> None:
     assert (c.scale.x, c.scale.y) == (1.0, 3.0)
     corners = [[p.x, p.y] for p in cubes[0].points]
     assert corners == [[0.1, 0.2], [0.7, 0.3]]  # exact, unlike centre +- size / 2
+
+
+def test_events_carry_kind_scenario_stamp_and_the_started_goal() -> None:
+    msg = sim.event_string("started", 3, 7_000_000_000, (1.5, 2.25))
+    body = json.loads(msg.data)
+    assert body == {
+        "format": "mentor-episode-event", "version": 1, "event": "started", "scenario": 3,
+        "stamp_ns": 7_000_000_000, "goal": [1.5, 2.25],
+    }
+    assert planner.event_from_string(msg) == ("started", (1.5, 2.25))
+    assert planner.event_from_string(sim.event_string("collided", 3, 9)) == ("collided", None)
+    with pytest.raises(ValueError, match="unknown event"):
+        sim.event_string("exploded", 0, 0)
+    for bad in ("not json", '{"format": "other", "event": "started"}',
+                '{"format": "mentor-episode-event", "event": "lost"}',
+                '{"format": "mentor-episode-event", "event": "started", "goal": [1, NaN]}'):
+        with pytest.raises(ValueError):
+            planner.event_from_string(String(data=bad))
+
+
+def test_stamps_in_ns() -> None:
+    assert planner.ns_from_stamp(sim.time_from_ns(3_000_000_007)) == 3_000_000_007

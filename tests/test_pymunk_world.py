@@ -103,3 +103,68 @@ def test_queries_are_deterministic_and_history_free() -> None:
     assert [second.collides(p) for p in poses[::-1]][::-1] == hits
     np.testing.assert_array_equal(np.array([second.ranges(p) for p in poses]), readings)
     assert 0 < sum(hits) < len(hits)
+
+
+def test_robots_of_two_profiles_share_a_world() -> None:
+    pw = PymunkWorld(World(10.0), UGV)
+    pw.add_robot("ugv", (3.0, 5.0, 0.0))
+    pw.add_robot("bot", (3.5, 5.0, math.pi), SWARM)  # faces the UGV's front face
+    assert pw.profile_of("bot") is SWARM and pw.profile_of("ugv") is UGV
+    r = pw.ranges(pw.pose("bot"), robot="bot")
+    assert r.shape == (3,)
+    # the Swarm-Robot's centre sensor at x = 3.46 sees the UGV's front face at x = 3.15
+    assert r[1] == pytest.approx(0.31)
+    # its small body fits where the UGV's would not
+    assert not pw.collides((3.5, 5.0, math.pi), robot="bot")
+    assert pw.collides((3.5, 5.0, math.pi), profile=UGV)
+    assert pw.collides((3.5, 5.0, math.pi), profile=SWARM)  # a free probe overlaps the bot
+
+
+def test_drive_follows_the_arc_and_stops_at_the_first_event() -> None:
+    world = World(10.0, np.array([[5.0, 4.0, 6.0, 6.0]]))
+    pw = PymunkWorld(world, UGV)
+    pw.add_robot("a", (1.0, 1.0, 0.0))
+    move = pw.drive("a", math.pi / 2, 1.0)
+    assert not move.collided and not move.reached and move.fraction == 1.0
+    r = 1.0 / (math.pi / 2)  # quarter circle of length 1 m
+    np.testing.assert_allclose(move.pose, (1.0 + r, 1.0 + r, math.pi / 2), atol=1e-12)
+    assert pw.pose("a") == move.pose
+    # straight at the box: stops on the last free sample before the front face reaches x = 5
+    pw.set_pose("a", (3.0, 5.0, 0.0))
+    move = pw.drive("a", 0.0, 2.0)
+    assert move.collided and not move.reached
+    assert move.pose[0] <= 4.85 and not pw.collides(move.pose, robot="a")
+    # a goal on the way: stops at the first sample within the radius
+    pw.set_pose("a", (1.0, 8.0, 0.0))
+    move = pw.drive("a", 0.0, 2.0, goal=(3.5, 8.0), goal_radius=1.0)
+    assert move.reached and 0.0 < move.fraction < 1.0
+    assert math.hypot(move.pose[0] - 3.5, move.pose[1] - 8.0) <= 1.0
+    with pytest.raises(ValueError, match="not finite"):
+        pw.drive("a", math.nan, 1.0)
+
+
+def test_drive_agrees_with_the_batched_engine() -> None:
+    from mentor_core.engine import BatchEngine
+    from mentor_core.scenarios import sample_world
+
+    world = sample_world(12.0, np.random.default_rng(2))
+    rng = np.random.default_rng(9)
+    engine = BatchEngine(world, UGV, backend="numpy")
+    starts, goals = [], []
+    while len(starts) < 30:
+        p = (rng.uniform(0.5, 11.5), rng.uniform(0.5, 11.5), rng.uniform(-3.0, 3.0))
+        if not PymunkWorld(world, UGV).collides(p):
+            starts.append(p)
+            goals.append((rng.uniform(0.5, 11.5), rng.uniform(0.5, 11.5)))
+    engine.reset(starts, goals)
+    dtheta = rng.uniform(-math.pi, math.pi, 30)
+    ds = rng.uniform(0.1, 2.0, 30)
+    result = engine.step(dtheta, ds, np.ones(30, dtype=bool))
+    for i in range(30):
+        pw = PymunkWorld(world, UGV)
+        pw.add_robot("r", starts[i])
+        move = pw.drive("r", float(dtheta[i]), float(ds[i]), goals[i])
+        assert (move.collided, move.reached) == (result.collided[i], result.reached[i])
+        assert move.fraction == pytest.approx(result.fraction[i])
+        np.testing.assert_allclose(move.pose, engine.poses[i], atol=1e-12)
+    assert result.collided.any() and not result.collided.all()

@@ -9,23 +9,32 @@ clips +inf to the sensor range; nothing here changes a reading.
 
 from __future__ import annotations
 
+import json
 import math
 from typing import TYPE_CHECKING
 
 import numpy as np
+from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist, Vector3
 from nav_msgs.msg import Odometry
 from numpy.typing import NDArray
 from sensor_msgs.msg import LaserScan
+from std_msgs.msg import String
 
 from mentor_core import observation
-from mentor_core.bagio import MAP_FRAME, quaternion_to_yaw
+from mentor_core.bagio import EVENT_FORMAT, EVENT_KINDS, MAP_FRAME, quaternion_to_yaw
 
 if TYPE_CHECKING:
     from mentor_core.robots import RobotProfile
 
 #: Frames a goal may be given in: the arena frame, or none (taken as the arena frame).
 GOAL_FRAMES = (MAP_FRAME, "")
+_NS_PER_S = 1_000_000_000
+
+
+def ns_from_stamp(stamp: Time) -> int:
+    """Time in ns of a header stamp (``builtin_interfaces/Time``)."""
+    return int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
 
 
 def ranges_from_scan(msg: LaserScan, profile: RobotProfile) -> NDArray[np.float64]:
@@ -69,6 +78,33 @@ def goal_from_pose_stamped(msg: PoseStamped) -> tuple[float, float]:
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ValueError("goal position is not finite")
     return x, y
+
+
+def event_from_string(msg: String) -> tuple[str, tuple[float, float] | None]:
+    """``(event, goal)`` of an episode event (``std_msgs/String`` JSON, see ``docs/ros.md``);
+    ``goal`` is the ``started`` event's ``goal`` (x, y) in ``map`` or None.
+
+    ``ValueError`` for text that is not such an event or a goal that is not two finite numbers.
+    """
+    try:
+        body = json.loads(msg.data)
+    except json.JSONDecodeError as err:
+        raise ValueError(f"event is not JSON ({err.msg})") from None
+    if not isinstance(body, dict) or body.get("format") != EVENT_FORMAT:
+        raise ValueError(f"not a {EVENT_FORMAT} message")
+    kind = body.get("event")
+    if kind not in EVENT_KINDS:
+        raise ValueError(f"unknown event {kind!r}")
+    raw = body.get("goal")
+    if raw is None:
+        return str(kind), None
+    if (
+        not isinstance(raw, list)
+        or len(raw) != 2
+        or not all(isinstance(v, int | float) and math.isfinite(v) for v in raw)
+    ):
+        raise ValueError(f"event goal {raw!r} is not two finite numbers")
+    return str(kind), (float(raw[0]), float(raw[1]))
 
 
 def twist_from_action(dtheta: float, ds: float, dt: float) -> Twist:

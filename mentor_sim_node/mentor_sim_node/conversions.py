@@ -13,6 +13,7 @@ numbers come from :func:`mentor_core.bagio.scan_geometry`, so recorded bags agre
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
@@ -23,14 +24,17 @@ from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist, Vecto
 from nav_msgs.msg import Odometry
 from numpy.typing import ArrayLike
 from sensor_msgs.msg import LaserScan
-from std_msgs.msg import ColorRGBA, Header
+from std_msgs.msg import ColorRGBA, Header, String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from mentor_core import observation
 from mentor_core.bagio import (
     ARENA_LINE_WIDTH,
+    EVENT_FORMAT,
+    EVENT_KINDS,
     MAP_FRAME,
     ODOM_FRAME,
+    VERSION,
     arena_outline,
     box_markers,
     scan_geometry,
@@ -128,6 +132,26 @@ def twist_to_action(msg: Twist, dt: float) -> tuple[float, float]:
         raise ValueError(f"non-finite velocity command (linear.x={vx}, angular.z={wz})")
     dtheta, ds = observation.action_from_twist(wz, vx, dt)
     return float(dtheta), float(ds)
+
+
+def event_string(
+    kind: str, scenario: int, stamp_ns: int, goal: Sequence[float] | None = None
+) -> String:
+    """An episode event as ``std_msgs/String`` JSON: ``format``, ``version``, ``event``,
+    ``scenario`` (as in episode bags), plus ``stamp_ns`` (sim time) and, for ``started``, the
+    episode's ``goal`` [x, y] (m, ``map``). ``ValueError`` for an unknown event."""
+    if kind not in EVENT_KINDS:
+        raise ValueError(f"unknown event {kind!r}")
+    body: dict[str, object] = {
+        "format": EVENT_FORMAT,
+        "version": VERSION,
+        "event": kind,
+        "scenario": int(scenario),
+        "stamp_ns": int(stamp_ns),
+    }
+    if goal is not None:
+        body["goal"] = [float(goal[0]), float(goal[1])]
+    return String(data=json.dumps(body))
 
 
 def markers_from_world(world: World, stamp: Time | None = None) -> MarkerArray:

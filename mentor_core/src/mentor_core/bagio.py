@@ -276,6 +276,7 @@ class EpisodeLog:
     profile_name: str
     robots: tuple[RobotEpisode, ...]
     metadata: Mapping[str, Any] = field(default_factory=dict)
+    world: World | None = None  # when the bag holds /mentor/obstacles
 
 
 # --------------------------------------------------------------------------------------------
@@ -442,36 +443,9 @@ def _metadata_json(meta: Mapping[str, Any] | None) -> dict[str, Any]:
     return user
 
 
-def write_scenario_bag(
-    path: str | Path,
-    world: World,
-    scenarios: Sequence[Scenario],
-    profile_name: str,
-    metadata: Mapping[str, Any] | None = None,
-    *,
-    overwrite: bool = False,
-) -> None:
-    """Write ``world`` and its start/goal ``scenarios`` for robot ``profile_name`` as a bag.
-
-    ``metadata`` is any JSON-serialisable mapping (kept under ``metadata`` in the JSON on
-    ``/mentor/metadata``). Raises ``FileExistsError`` when ``path`` exists and ``overwrite``
-    is false, ``ValueError`` for a scenario of another world or bad metadata.
-    """
-    ts = _store()
-    for i, sc in enumerate(scenarios):
-        if sc.world is not world and sc.world != world:
-            raise ValueError(f"scenario {i} belongs to another world")
+def _world_markers(ts: Typestore, world: World) -> list[Any]:
+    """The arena outline and one CUBE marker per obstacle (see the module docstring)."""
     size = float(world.size)
-    head = {
-        "format": SCENARIO_FORMAT,
-        "version": VERSION,
-        "profile": str(profile_name),
-        "arena_size": size,
-        "world_name": str(world.name),
-        "n_scenarios": len(scenarios),
-        "n_obstacles": int(np.asarray(world.obstacles).reshape(-1, 4).shape[0]),
-        "metadata": _metadata_json(metadata),
-    }
     grey = _msg(ts, "std_msgs/msg/ColorRGBA", r=0.5, g=0.5, b=0.5, a=1.0)
     black = _msg(ts, "std_msgs/msg/ColorRGBA", r=0.0, g=0.0, b=0.0, a=1.0)
     markers = [
@@ -505,6 +479,39 @@ def write_scenario_bag(
                 points=[_point(ts, *c) for c in box.corners],
             )
         )
+    return markers
+
+
+def write_scenario_bag(
+    path: str | Path,
+    world: World,
+    scenarios: Sequence[Scenario],
+    profile_name: str,
+    metadata: Mapping[str, Any] | None = None,
+    *,
+    overwrite: bool = False,
+) -> None:
+    """Write ``world`` and its start/goal ``scenarios`` for robot ``profile_name`` as a bag.
+
+    ``metadata`` is any JSON-serialisable mapping (kept under ``metadata`` in the JSON on
+    ``/mentor/metadata``). Raises ``FileExistsError`` when ``path`` exists and ``overwrite``
+    is false, ``ValueError`` for a scenario of another world or bad metadata.
+    """
+    ts = _store()
+    for i, sc in enumerate(scenarios):
+        if sc.world is not world and sc.world != world:
+            raise ValueError(f"scenario {i} belongs to another world")
+    size = float(world.size)
+    head = {
+        "format": SCENARIO_FORMAT,
+        "version": VERSION,
+        "profile": str(profile_name),
+        "arena_size": size,
+        "world_name": str(world.name),
+        "n_scenarios": len(scenarios),
+        "n_obstacles": int(np.asarray(world.obstacles).reshape(-1, 4).shape[0]),
+        "metadata": _metadata_json(metadata),
+    }
     starts = [_pose(ts, sc.start[0], sc.start[1], sc.start[2]) for sc in scenarios]
     goals = [_pose(ts, sc.goal[0], sc.goal[1]) for sc in scenarios]
     topics = [
@@ -515,7 +522,7 @@ def write_scenario_bag(
     ]
     messages = [
         _string(ts, head),
-        _msg(ts, "visualization_msgs/msg/MarkerArray", markers=markers),
+        _msg(ts, "visualization_msgs/msg/MarkerArray", markers=_world_markers(ts, world)),
         _msg(ts, "geometry_msgs/msg/PoseArray", header=_header(ts, 0, MAP_FRAME), poses=starts),
         _msg(ts, "geometry_msgs/msg/PoseArray", header=_header(ts, 0, MAP_FRAME), poses=goals),
     ]
@@ -539,13 +546,15 @@ def write_episode_bag(
     profile: RobotProfile,
     metadata: Mapping[str, Any] | None = None,
     *,
+    world: World | None = None,
     overwrite: bool = False,
 ) -> None:
     """Write recorded robot episodes (one namespace each) as a bag; see the module docstring.
 
     Every scan must hold ``profile.n_sensors`` ranges (m; +inf out of range, no NaN); stamps
-    are sim time in ns, non-decreasing per topic. Raises ``ValueError`` for bad records,
-    ``FileExistsError`` when ``path`` exists and ``overwrite`` is false.
+    are sim time in ns, non-decreasing per topic. ``world``, when given, is written as
+    ``/mentor/obstacles`` at time 0 (as in a scenario bag). Raises ``ValueError`` for bad
+    records, ``FileExistsError`` when ``path`` exists and ``overwrite`` is false.
     """
     ts = _store()
     names = [r.namespace for r in robots]
@@ -562,8 +571,16 @@ def write_episode_bag(
         "namespaces": names,
         "metadata": _metadata_json(metadata),
     }
+    if world is not None:
+        head["arena_size"] = float(world.size)
+        head["world_name"] = str(world.name)
+        head["n_obstacles"] = int(np.asarray(world.obstacles).reshape(-1, 4).shape[0])
     topics = [_Topic(METADATA_TOPIC, "std_msgs/msg/String", QOS_LATCHED)]
-    first = _Out(METADATA_TOPIC, "std_msgs/msg/String", 0, _string(ts, head))
+    first = [_Out(METADATA_TOPIC, "std_msgs/msg/String", 0, _string(ts, head))]
+    if world is not None:
+        topics.append(_Topic(OBSTACLES_TOPIC, "visualization_msgs/msg/MarkerArray", QOS_LATCHED))
+        markers = _msg(ts, "visualization_msgs/msg/MarkerArray", markers=_world_markers(ts, world))
+        first.append(_Out(OBSTACLES_TOPIC, "visualization_msgs/msg/MarkerArray", 0, markers))
     timed: list[tuple[int, int, _Out]] = []  # (stamp, order, item): written in time order
 
     def add(item: _Out) -> None:
@@ -655,7 +672,7 @@ def write_episode_bag(
             }
             add(_Out(topic["events"], "std_msgs/msg/String", ev.stamp_ns, _string(ts, body)))
     timed.sort(key=lambda t: (t[0], t[1]))
-    _write_bag(path, topics, [first, *(t[2] for t in timed)], overwrite)
+    _write_bag(path, topics, [*first, *(t[2] for t in timed)], overwrite)
 
 
 # --------------------------------------------------------------------------------------------
@@ -751,6 +768,39 @@ def _single(path: str | Path, data: dict[str, list[tuple[int, Any]]], topic: str
     return msgs[0][1]
 
 
+def _world_from_markers(p: Path, head: dict[str, Any], markers: Any) -> World:
+    """The world of a ``/mentor/obstacles`` MarkerArray and the metadata's arena size."""
+    from mentor_core.world import World
+
+    size = float(head["arena_size"])
+    boxes: list[tuple[int, list[float]]] = []
+    for mk in markers.markers:
+        if mk.ns != "obstacles":
+            continue
+        if int(mk.type) != MARKER_CUBE:
+            raise FileFormatError(p, f"obstacle marker {mk.id} is not a CUBE")
+        q = mk.pose.orientation
+        if abs(quaternion_to_yaw(q.x, q.y, q.z, q.w)) > 1e-9:
+            raise FileFormatError(p, f"obstacle marker {mk.id} is not axis-aligned")
+        if len(mk.points) == 2:
+            a, b = mk.points
+            box = [a.x, a.y, b.x, b.y]
+        else:  # a CUBE from another tool: centre and size only
+            cx, cy, sx, sy = mk.pose.position.x, mk.pose.position.y, mk.scale.x, mk.scale.y
+            box = [cx - 0.5 * sx, cy - 0.5 * sy, cx + 0.5 * sx, cy + 0.5 * sy]
+        boxes.append((int(mk.id), [float(v) for v in box]))
+    boxes.sort(key=lambda t: t[0])
+    if "n_obstacles" in head and len(boxes) != int(head["n_obstacles"]):
+        raise FileFormatError(
+            p, f"{len(boxes)} obstacle markers, metadata says {head['n_obstacles']}"
+        )
+    obstacles: NDArray[np.float64] = np.array([b for _, b in boxes], dtype=np.float64).reshape(
+        -1, 4
+    )
+    world = World(size=size, obstacles=obstacles, name=str(head.get("world_name", "")))
+    return world
+
+
 def read_scenario_bag(
     path: str | Path,
 ) -> tuple[World, list[Scenario], str, dict[str, Any]]:
@@ -759,7 +809,7 @@ def read_scenario_bag(
     Returns ``(world, scenarios, profile_name, metadata)``; ``FileFormatError`` for anything
     missing, corrupt, foreign or of another version.
     """
-    from mentor_core.world import Scenario, World
+    from mentor_core.world import Scenario
 
     wanted = {
         OBSTACLES_TOPIC: "visualization_msgs/msg/MarkerArray",
@@ -769,32 +819,7 @@ def read_scenario_bag(
     head, data = _read_topics(path, SCENARIO_FORMAT, lambda _h: wanted)
     p = Path(path)
     with _faults(p):
-        size = float(head["arena_size"])
-        boxes: list[tuple[int, list[float]]] = []
-        for mk in _single(p, data, OBSTACLES_TOPIC).markers:
-            if mk.ns != "obstacles":
-                continue
-            if int(mk.type) != MARKER_CUBE:
-                raise FileFormatError(p, f"obstacle marker {mk.id} is not a CUBE")
-            q = mk.pose.orientation
-            if abs(quaternion_to_yaw(q.x, q.y, q.z, q.w)) > 1e-9:
-                raise FileFormatError(p, f"obstacle marker {mk.id} is not axis-aligned")
-            if len(mk.points) == 2:
-                a, b = mk.points
-                box = [a.x, a.y, b.x, b.y]
-            else:  # a CUBE from another tool: centre and size only
-                cx, cy, sx, sy = mk.pose.position.x, mk.pose.position.y, mk.scale.x, mk.scale.y
-                box = [cx - 0.5 * sx, cy - 0.5 * sy, cx + 0.5 * sx, cy + 0.5 * sy]
-            boxes.append((int(mk.id), [float(v) for v in box]))
-        boxes.sort(key=lambda t: t[0])
-        if "n_obstacles" in head and len(boxes) != int(head["n_obstacles"]):
-            raise FileFormatError(
-                p, f"{len(boxes)} obstacle markers, metadata says {head['n_obstacles']}"
-            )
-        obstacles: NDArray[np.float64] = np.array([b for _, b in boxes], dtype=np.float64).reshape(
-            -1, 4
-        )
-        world = World(size=size, obstacles=obstacles, name=str(head.get("world_name", "")))
+        world = _world_from_markers(p, head, _single(p, data, OBSTACLES_TOPIC))
         starts = _single(p, data, STARTS_TOPIC).poses
         goals = _single(p, data, GOALS_TOPIC).poses
         if len(starts) != len(goals) or len(starts) != int(head["n_scenarios"]):
@@ -828,6 +853,8 @@ def _episode_topics(head: dict[str, Any]) -> dict[str, str]:
         wanted[t["cmd_vel"]] = "geometry_msgs/msg/Twist"
         wanted[t["goal"]] = "geometry_msgs/msg/PoseStamped"
         wanted[t["events"]] = "std_msgs/msg/String"
+    if "arena_size" in head:
+        wanted[OBSTACLES_TOPIC] = "visualization_msgs/msg/MarkerArray"
     return wanted
 
 
@@ -875,4 +902,9 @@ def read_episode_bag(path: str | Path) -> EpisodeLog:
         meta = head.get("metadata", {})
         if not isinstance(meta, dict):
             raise FileFormatError(p, "metadata in /mentor/metadata is not a JSON object")
-        return EpisodeLog(str(head["profile"]), tuple(robots), meta)
+        world = (
+            _world_from_markers(p, head, _single(p, data, OBSTACLES_TOPIC))
+            if OBSTACLES_TOPIC in data
+            else None
+        )
+        return EpisodeLog(str(head["profile"]), tuple(robots), meta, world)

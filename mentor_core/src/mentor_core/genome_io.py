@@ -106,7 +106,7 @@ def load_genome_and_metadata(path: str | Path) -> tuple[Genome, dict[str, Any]]:
         raise FileFormatError(path, f"cannot read: {err}") from None
     try:
         d = json.loads(text, parse_constant=_reject_constant)
-    except (json.JSONDecodeError, _Fault) as err:
+    except (json.JSONDecodeError, _Fault, RecursionError) as err:
         raise FileFormatError(path, f"not valid JSON: {err}") from None
     return _parse(d, str(path))
 
@@ -148,9 +148,9 @@ def _node(entry: Any, k: int) -> NodeGene:
     where = f"nodes[{k}]"
     _check_keys(entry, _NODE_KEYS, where)
     kind = entry["kind"]
-    if kind not in NODE_KINDS:
+    if not isinstance(kind, str) or kind not in NODE_KINDS:
         raise _Fault(f"{where}.kind {kind!r} is not one of {sorted(NODE_KINDS)}")
-    node_kind: NodeKind = kind
+    node_kind: NodeKind = entry["kind"]  # validated just above
     return NodeGene(
         _int(entry["id"], f"{where}.id"),
         node_kind,
@@ -164,7 +164,11 @@ def _connection(entry: Any, k: int) -> ConnectionGene:
     weight = entry["weight"]
     if isinstance(weight, bool) or not isinstance(weight, int | float):
         raise _Fault(f"{where}.weight must be a number, got {weight!r}")
-    if not math.isfinite(weight):
+    try:
+        value = float(weight)
+    except OverflowError:
+        raise _Fault(f"{where}.weight is out of range") from None
+    if not math.isfinite(value):
         raise _Fault(f"{where}.weight is {weight}")
     enabled = entry["enabled"]
     if not isinstance(enabled, bool):
@@ -173,7 +177,7 @@ def _connection(entry: Any, k: int) -> ConnectionGene:
         _int(entry["innovation"], f"{where}.innovation"),
         _int(entry["in"], f"{where}.in"),
         _int(entry["out"], f"{where}.out"),
-        float(weight),
+        value,
         enabled,
     )
 
@@ -203,7 +207,7 @@ def _int(value: Any, where: str) -> int:
 
 
 def _activation(value: Any, where: str) -> str:
-    if value not in ACTIVATIONS:
+    if not isinstance(value, str) or value not in ACTIVATIONS:
         raise _Fault(f"{where} {value!r} is not one of {sorted(ACTIVATIONS)}")
     return str(value)
 

@@ -12,8 +12,9 @@ Geometry:
 * Obstacles: static boxes (``pymunk.Poly`` with the 4 corners, radius 0).
 * Arena walls: four static boxes outside ``[0, size]^2`` whose inner faces lie exactly on
   ``x = 0``, ``x = size``, ``y = 0``, ``y = size``.
-* Robots: a ``length x width`` box on a kinematic body per robot; each robot has its own shape
-  filter group, so its rays and collision checks ignore its own body but see every other
+* Robots: a ``length x width`` box on a kinematic body per robot, of the world's profile or of
+  a profile of its own (a UGV and a Swarm-Robot may share one world); each robot has its own
+  shape filter group, so its rays and collision checks ignore its own body but see every other
   robot.
 
 Range reading of a sensor: the first hit of the segment ``o -> o + R u`` (``o``, ``u`` the
@@ -25,9 +26,18 @@ Collision: the body overlaps an obstacle, a wall or another robot with penetrati
 above ``CONTACT_TOLERANCE`` (touching is free), or a body corner lies outside the arena.
 pymunk reports depth 0 for two exactly coincident boxes, so a shape whose centre lies inside
 the other one (or the other way round) also counts as overlapping.
+
+Driving (:meth:`PymunkWorld.drive`): one decision moves a robot along its exact unicycle arc,
+sampled as in the batched engine (:func:`mentor_core.collision.sample_counts`,
+:func:`mentor_core.kinematics.arc_samples`), and stops at the first event along the samples,
+exactly as :meth:`mentor_core.engine.BatchEngine.step` does: the first colliding sample stops
+the robot at the sample before it; otherwise the first sample within the goal radius stops it
+there (reached); otherwise it ends at the end of the arc.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import pymunk
@@ -46,6 +56,23 @@ CONTACT_TOLERANCE = 1e-9
 Pose = tuple[float, float, float]
 
 
+@dataclass(frozen=True)
+class Move:
+    """Outcome of one decision of one robot (:meth:`PymunkWorld.drive`).
+
+    Attributes:
+        pose: where the robot stopped, (x, y, theta) (m, m, rad).
+        collided: the swept body hit a box, a wall or another robot (it stopped before).
+        reached: a sample came within the goal radius (the robot stopped there).
+        fraction: share of the control period used, ``stop_sample / n_samples`` in [0, 1].
+    """
+
+    pose: Pose
+    collided: bool
+    reached: bool
+    fraction: float
+
+
 def _box(body: pymunk.Body, x0: float, y0: float, x1: float, y1: float) -> pymunk.Poly:
     return pymunk.Poly(body, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)], radius=0.0)
 
@@ -58,10 +85,12 @@ def _pose(pose: ArrayLike) -> Pose:
 
 
 class PymunkWorld:
-    """A :class:`World` in a fresh pymunk space, with any number of named robots of one profile.
+    """A :class:`World` in a fresh pymunk space, with any number of named robots.
 
+    ``profile`` is the default robot profile; :meth:`add_robot` may give a robot another one.
     ``ranges``, ``collides`` and ``swept_collision`` take the pose to test; ``robot`` names the
-    robot whose own body the query ignores (None: a free probe, which sees every robot).
+    robot whose own body the query ignores and whose profile (sensors, body) the query uses
+    (None: a free probe of the default profile, which sees every robot).
     """
 
     def __init__(self, world: World, profile: RobotProfile) -> None:
@@ -81,55 +110,72 @@ class PymunkWorld:
         self._space.add(*shapes)
         self._robots: dict[str, tuple[pymunk.Body, pymunk.Poly]] = {}
         self._groups: dict[str, int] = {}
-        # the probe body tests poses for shape queries; it is never added to the space
-        self._probe_body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-        self._probe = pymunk.Poly(self._probe_body, list(profile.body_polygon), radius=0.0)
+        self._profiles: dict[str, RobotProfile] = {}
+        self._poses: dict[str, Pose] = {}
+        # probe bodies test poses for shape queries (one per body shape); never in the space
+        self._probes: dict[tuple[float, float], tuple[pymunk.Body, pymunk.Poly]] = {}
 
     @property
     def robot_names(self) -> tuple[str, ...]:
         """Names of the robots in the world, sorted."""
         return tuple(sorted(self._robots))
 
-    def add_robot(self, name: str, pose: ArrayLike) -> None:
-        """Place a new robot's body at ``pose`` (x, y, theta); ValueError if the name is taken."""
+    def add_robot(
+        self, name: str, pose: ArrayLike, profile: RobotProfile | None = None
+    ) -> None:
+        """Place a new robot's body at ``pose`` (x, y, theta); ValueError if the name is taken.
+
+        ``profile`` gives the robot's body and sensors (default: the world's profile).
+        """
         if name in self._robots:
             raise ValueError(f"robot {name!r} already exists")
+        own = self.profile if profile is None else profile
         body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-        shape = pymunk.Poly(body, list(self.profile.body_polygon), radius=0.0)
+        shape = pymunk.Poly(body, list(own.body_polygon), radius=0.0)
         # groups start at 1: group 0 means "no group" and would filter nothing
         group = 1 + max(self._groups.values(), default=0)
         shape.filter = pymunk.ShapeFilter(group=group)
         self._space.add(body, shape)
         self._robots[name] = (body, shape)
         self._groups[name] = group
+        self._profiles[name] = own
         self.set_pose(name, pose)
 
     def remove_robot(self, name: str) -> None:
         """Take a robot out of the world."""
         body, shape = self._robots.pop(self._known(name))
-        del self._groups[name]
+        del self._groups[name], self._profiles[name], self._poses[name]
         self._space.remove(body, shape)
 
+    def profile_of(self, name: str) -> RobotProfile:
+        """The profile (body, sensors) of a robot."""
+        return self._profiles[self._known(name)]
+
     def set_pose(self, name: str, pose: ArrayLike) -> None:
-        """Move a robot's body to ``pose`` (placement, no dynamics)."""
-        body, _ = self._robots[self._known(name)]
-        x, y, theta = _pose(pose)
-        body.position = (x, y)
-        body.angle = theta
+        """Move a robot's body to ``pose`` (placement, no dynamics; theta wrapped)."""
+        self._known(name)
+        self._place(name, _pose(pose))
+
+    def _place(self, name: str, pose: Pose) -> None:
+        body, _ = self._robots[name]
+        body.position = (pose[0], pose[1])
+        body.angle = pose[2]
         # the space is never stepped, so the spatial index must learn the new placement here
         self._space.reindex_shapes_for_body(body)
+        self._poses[name] = pose
 
     def pose(self, name: str) -> Pose:
-        """Current pose (x, y, theta) of a robot."""
-        body, _ = self._robots[self._known(name)]
-        return float(body.position.x), float(body.position.y), float(body.angle)
+        """Current pose (x, y, theta) of a robot, exactly as placed."""
+        return self._poses[self._known(name)]
 
     def ranges(self, pose: ArrayLike, robot: str | None = None) -> NDArray[np.float64]:
-        """Readings (k,) in m of the profile's sensors at ``pose``, +inf when nothing in range."""
+        """Readings (k,) in m of the robot's (or the default profile's) sensors at ``pose``,
+        +inf when nothing lies in range."""
         shape_filter = self._filter(robot)
-        frames = sensor_frames(np.asarray(_pose(pose))[None, :], self.profile)[0]
-        reach = self.profile.sensor_range
-        out = np.full(self.profile.n_sensors, np.inf, dtype=np.float64)
+        profile = self.profile if robot is None else self._profiles[robot]
+        frames = sensor_frames(np.asarray(_pose(pose))[None, :], profile)[0]
+        reach = profile.sensor_range
+        out = np.full(profile.n_sensors, np.inf, dtype=np.float64)
         for i, (ox, oy, a) in enumerate(frames):
             end = (float(ox + reach * np.cos(a)), float(oy + reach * np.sin(a)))
             hit = self._space.segment_query_first((float(ox), float(oy)), end, 0.0, shape_filter)
@@ -137,17 +183,28 @@ class PymunkWorld:
                 out[i] = hit.alpha * reach
         return out
 
-    def collides(self, pose: ArrayLike, robot: str | None = None) -> bool:
-        """Whether the body at ``pose`` penetrates an obstacle, a wall or another robot."""
+    def collides(
+        self, pose: ArrayLike, robot: str | None = None, profile: RobotProfile | None = None
+    ) -> bool:
+        """Whether the body at ``pose`` penetrates an obstacle, a wall or another robot.
+
+        The body is ``robot``'s (whose own body is ignored) or, for a free probe, one of
+        ``profile`` (default: the world's profile).
+        """
         x, y, theta = _pose(pose)
-        corners = body_corners(self.profile, (x, y, theta))
+        if robot is not None:
+            profile = self._profiles[self._known(robot)]
+        elif profile is None:
+            profile = self.profile
+        corners = body_corners(profile, (x, y, theta))
         tol, size = CONTACT_TOLERANCE, self.world.size
         if corners.min() < -tol or corners.max() > size + tol:
             return True
-        self._probe_body.position = (x, y)
-        self._probe_body.angle = theta
-        self._probe.filter = self._filter(robot)
-        for info in self._space.shape_query(self._probe):
+        probe_body, probe = self._probe(profile)
+        probe_body.position = (x, y)
+        probe_body.angle = theta
+        probe.filter = self._filter(robot)
+        for info in self._space.shape_query(probe):
             if any(point.distance < -tol for point in info.contact_point_set.points):
                 return True
             # pymunk reports depth 0 for exactly coincident boxes; a centre inside the other
@@ -155,7 +212,7 @@ class PymunkWorld:
             other = info.shape
             if (
                 other.point_query((x, y)).distance < -tol
-                or self._probe.point_query(other.bb.center()).distance < -tol
+                or probe.point_query(other.bb.center()).distance < -tol
             ):
                 return True
         return False
@@ -176,17 +233,62 @@ class PymunkWorld:
         :func:`mentor_core.collision.sample_counts`, so the verdict is comparable with the
         batched :func:`mentor_core.collision.swept_collision`.
         """
-        n = int(sample_counts(dtheta, ds, self.profile)) if n_samples is None else n_samples
+        profile = self.profile if robot is None else self._profiles[self._known(robot)]
+        n = int(sample_counts(dtheta, ds, profile)) if n_samples is None else n_samples
         samples = arc_samples(np.asarray(_pose(pose))[None, :], dtheta, ds, n)[0]
         for j, sample in enumerate(samples):
             if self.collides(sample, robot):
                 return j
         return -1
 
+    def drive(
+        self,
+        name: str,
+        dtheta: float,
+        ds: float,
+        goal: ArrayLike | None = None,
+        goal_radius: float | None = None,
+    ) -> Move:
+        """Move robot ``name`` by one decision ``(dtheta, ds)`` (rad, m); see the module docstring.
+
+        The arc starts at the robot's current pose and is sampled with
+        :func:`mentor_core.collision.sample_counts` of its profile, as in the batched engine.
+        ``goal`` (x, y) (m) and ``goal_radius`` (m, default the profile's) make the robot stop
+        on arrival; without a goal it only stops at a collision. The other robots stay where
+        they are and are obstacles to this one. ValueError for a non-finite decision.
+        """
+        profile = self._profiles[self._known(name)]
+        if not (np.isfinite(dtheta) and np.isfinite(ds)):
+            raise ValueError(f"decision of {name!r} is not finite (dtheta={dtheta}, ds={ds})")
+        start = self._poses[name]
+        n = int(sample_counts(dtheta, ds, profile))
+        samples = arc_samples(np.asarray(start)[None, :], dtheta, ds, n)[0]
+        radius = profile.goal_radius if goal_radius is None else float(goal_radius)
+        g = None if goal is None else np.asarray(goal, dtype=np.float64).reshape(-1)[:2]
+        stop, collided, reached = n, False, False
+        for j, sample in enumerate(samples):
+            if self.collides(sample, name):
+                stop, collided = max(j - 1, 0), True
+                break
+            if g is not None and np.hypot(sample[0] - g[0], sample[1] - g[1]) <= radius:
+                stop, reached = j, True
+                break
+        end = samples[stop]
+        pose = (float(end[0]), float(end[1]), float(end[2]))
+        self._place(name, pose)
+        return Move(pose=pose, collided=collided, reached=reached, fraction=stop / n)
+
     def _known(self, name: str) -> str:
         if name not in self._robots:
             raise KeyError(f"no robot {name!r} (robots: {', '.join(self.robot_names) or 'none'})")
         return name
+
+    def _probe(self, profile: RobotProfile) -> tuple[pymunk.Body, pymunk.Poly]:
+        key = (profile.length, profile.width)
+        if key not in self._probes:
+            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            self._probes[key] = (body, pymunk.Poly(body, list(profile.body_polygon), radius=0.0))
+        return self._probes[key]
 
     def _filter(self, robot: str | None) -> pymunk.ShapeFilter:
         if robot is None:

@@ -67,7 +67,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="evolution seed (default 0)")
     p.add_argument("--out", required=True, type=Path, help="run directory")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
-    p.add_argument("--workers", type=int, default=1, help="local worker processes")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local worker processes (default: in process); with --ray, the CPUs "
+                        "of a local Ray and the chunks per generation (default: all)")
     p.add_argument("--ray", metavar="ADDRESS", help="evaluate on Ray: 'auto' or a cluster address")
     p.add_argument("--quiet", action="store_true", help="no per-generation lines")
     return p

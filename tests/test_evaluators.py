@@ -1,0 +1,239 @@
+"""Evaluation backends: in process, process pool and Ray agree bit for bit; Ray's errors.
+
+The Ray tests start one local Ray (2 CPUs, a few seconds) shared by the module's Ray tests;
+they are skipped only when ``ray`` cannot be imported (it is in requirements.lock and the
+``ray`` extra of mentor-core).
+"""
+
+from __future__ import annotations
+
+import csv
+import importlib
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from mentor_core.cli import train as train_cli
+from mentor_core.config import EvolutionConfig
+from mentor_core.errors import ConfigError, MentorError
+from mentor_core.evaluators import (
+    BackendError,
+    InProcessEvaluator,
+    PoolEvaluator,
+    RayEvaluator,
+    _check_reachable,
+    make_evaluator,
+)
+from mentor_core.genome import Genome, minimal_genome
+from mentor_core.innovation import InnovationTracker
+from mentor_core.mutation import mutate
+from mentor_core.problem import Evaluation, NavigationProblem
+from mentor_core.trainer import TrainerConfig, make_problem, train
+
+try:
+    importlib.import_module("ray")
+    HAVE_RAY = True
+except ImportError:
+    HAVE_RAY = False
+NO_RAY = "ray cannot be imported (install the extra: pip install 'mentor-core[ray]')"
+needs_ray = pytest.mark.skipif(not HAVE_RAY, reason=NO_RAY)
+
+TINY = {
+    "robot": "swarm",
+    "framework": "dual",
+    "generations": 3,
+    "stage1_generations": 2,
+    "n_scenarios": 3,
+    "evolution": {"population_size": 6},
+}
+
+
+def tiny_config() -> TrainerConfig:
+    return TrainerConfig.from_dict(dict(TINY))
+
+
+def varied_genomes(n: int, n_inputs: int, rounds: int = 6, seed: int = 5) -> list[Genome]:
+    """Minimal genomes put through the paper's mutation, so they carry hidden nodes."""
+    rng = np.random.default_rng(seed)
+    cfg = EvolutionConfig.paper("swarm")
+    tracker = InnovationTracker(next_node_id=n_inputs + 3)
+    genomes = []
+    for _ in range(n):
+        g = minimal_genome(n_inputs, 2, tracker, rng)
+        for _ in range(rounds):
+            g = mutate(g, cfg.mutation, tracker, rng)
+        genomes.append(g)
+    return genomes
+
+
+@pytest.fixture(scope="module")
+def problem() -> NavigationProblem:
+    return make_problem(tiny_config())
+
+
+@pytest.fixture(scope="module")
+def genomes(problem: NavigationProblem) -> list[Genome]:
+    return varied_genomes(5, problem.n_inputs)
+
+
+@pytest.fixture(scope="module")
+def serial(problem: NavigationProblem, genomes: list[Genome]) -> Evaluation:
+    return InProcessEvaluator(problem).evaluate(genomes)
+
+
+@pytest.fixture(scope="module")
+def ray_evaluator(problem: NavigationProblem) -> Iterator[RayEvaluator]:
+    if not HAVE_RAY:
+        pytest.skip(NO_RAY)
+    import ray
+
+    assert not ray.is_initialized()
+    evaluator = RayEvaluator(problem, "auto", workers=2)
+    yield evaluator
+    evaluator.close()
+    assert not ray.is_initialized(), "close() must shut down the Ray it started"
+
+
+def assert_same(a: Evaluation, b: Evaluation) -> None:
+    assert np.array_equal(a.objectives, b.objectives)
+    assert np.array_equal(a.success_rate, b.success_rate)
+    assert np.array_equal(a.collision_rate, b.collision_rate)
+
+
+def history(run: Path) -> list[dict[str, str]]:
+    with (run / "history.csv").open() as handle:
+        return [{k: v for k, v in r.items() if k != "seconds"} for r in csv.DictReader(handle)]
+
+
+def test_genomes_are_not_trivial(genomes: list[Genome], serial: Evaluation) -> None:
+    assert any(g.hidden_nodes for g in genomes)
+    assert serial.objectives.shape == (len(genomes), 2)
+    assert np.isfinite(serial.objectives).all()
+    assert (serial.objectives[:, 1] > 0).all()  # experience gain was computed
+
+
+def test_pool_is_bit_identical_to_in_process(
+    problem: NavigationProblem, genomes: list[Genome], serial: Evaluation
+) -> None:
+    with PoolEvaluator(problem, workers=2) as pool:
+        assert_same(pool.evaluate(genomes), serial)
+        assert_same(pool.evaluate(genomes[:1]), InProcessEvaluator(problem).evaluate(genomes[:1]))
+        assert pool.evaluate([]).objectives.shape == (0, 2)
+
+
+@needs_ray
+def test_ray_is_bit_identical_to_in_process(
+    ray_evaluator: RayEvaluator, genomes: list[Genome], serial: Evaluation
+) -> None:
+    assert ray_evaluator.workers == 2
+    assert_same(ray_evaluator.evaluate(genomes), serial)
+    assert ray_evaluator.evaluate([]).objectives.shape == (0, 2)
+
+
+@needs_ray
+def test_train_on_ray_equals_in_process(ray_evaluator: RayEvaluator, tmp_path: Path) -> None:
+    config = tiny_config()
+    train(config, tmp_path / "serial", seed=3)
+    train(config, tmp_path / "ray", seed=3, evaluator=ray_evaluator)
+    assert history(tmp_path / "ray") == history(tmp_path / "serial")
+    assert (tmp_path / "ray" / "best_genome.json").read_text() == (
+        tmp_path / "serial" / "best_genome.json"
+    ).read_text()
+
+
+@needs_ray
+def test_a_running_ray_is_used_and_left_running(
+    ray_evaluator: RayEvaluator, problem: NavigationProblem, genomes: list[Genome],
+    serial: Evaluation,
+) -> None:
+    import ray
+
+    guest = make_evaluator(problem, ray_address="auto")  # Ray already runs: joins it
+    assert isinstance(guest, RayEvaluator)
+    assert guest.workers == 2  # the CPUs of the running Ray
+    assert_same(guest.evaluate(genomes), serial)
+    guest.close()
+    assert ray.is_initialized(), "close() must not shut down a Ray it did not start"
+
+
+def test_make_evaluator_picks_the_backend(problem: NavigationProblem) -> None:
+    assert type(make_evaluator(problem)) is InProcessEvaluator
+    assert type(make_evaluator(problem, 1)) is InProcessEvaluator
+    with make_evaluator(problem, 2) as pool:
+        assert isinstance(pool, PoolEvaluator)
+    for bad in (0, -3):
+        with pytest.raises(ConfigError, match="workers"):
+            make_evaluator(problem, bad)
+
+
+def test_missing_ray_is_one_clear_error(
+    problem: NavigationProblem, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray -> ImportError
+    with pytest.raises(BackendError, match=r"pip install 'mentor-core\[ray\]'") as info:
+        make_evaluator(problem, ray_address="auto")
+    assert isinstance(info.value, MentorError) and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("address", "message"),
+    [
+        ("127.0.0.1:1", "unreachable"),
+        ("no-such-host.invalid:6379", "unreachable"),
+        ("garbage", "HOST:PORT"),
+        ("10.0.0.5:", "HOST:PORT"),
+    ],
+)
+def test_bad_cluster_addresses_fail_fast(address: str, message: str) -> None:
+    with pytest.raises(BackendError, match=message) as info:
+        _check_reachable(address, timeout=2.0)
+    assert "\n" not in str(info.value)
+
+
+def write_tiny_yaml(path: Path) -> Path:
+    """A one-generation single-stage config for the command line."""
+    single = {k: v for k, v in TINY.items() if k != "stage1_generations"}
+    data = {**single, "framework": "single", "generations": 1}
+    path.write_text(yaml.safe_dump(TrainerConfig.from_dict(data).to_dict()))
+    return path
+
+
+def test_cli_wires_workers_and_ray_to_make_evaluator(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    calls: list[tuple[int | None, str | None]] = []
+
+    def fake(problem: NavigationProblem, workers: int | None = None,
+             ray_address: str | None = None) -> InProcessEvaluator:
+        calls.append((workers, ray_address))
+        return InProcessEvaluator(problem)
+
+    monkeypatch.setattr(train_cli, "make_evaluator", fake)
+    cfg = write_tiny_yaml(tmp_path / "tiny.yaml")
+    base = ["--robot", "swarm", "--framework", "single", "--config", str(cfg), "--quiet"]
+    assert train_cli.main([*base, "--out", str(tmp_path / "a")]) == 0
+    assert train_cli.main([*base, "--out", str(tmp_path / "b"), "--workers", "2"]) == 0
+    assert train_cli.main([*base, "--out", str(tmp_path / "c"), "--ray", "auto"]) == 0
+    assert train_cli.main(
+        [*base, "--out", str(tmp_path / "d"), "--ray", "10.0.0.5:6379", "--workers", "4"]
+    ) == 0
+    assert calls == [(None, None), (2, None), (None, "auto"), (4, "10.0.0.5:6379")]
+
+
+@needs_ray
+def test_cli_reports_an_unreachable_cluster_in_one_line(tmp_path: Path) -> None:
+    cfg = write_tiny_yaml(tmp_path / "tiny.yaml")
+    proc = subprocess.run(
+        [sys.executable, "-m", "mentor_core.cli.train", "--robot", "swarm", "--framework",
+         "single", "--config", str(cfg), "--out", str(tmp_path / "run"), "--ray", "127.0.0.1:1"],
+        capture_output=True, text=True, timeout=60, check=False,
+    )
+    assert proc.returncode == 2, proc.stderr
+    last = proc.stderr.strip().splitlines()[-1]
+    assert last.startswith("mentor-train: Ray cluster at 127.0.0.1:1 is unreachable"), proc.stderr
+    assert "Traceback" not in proc.stderr

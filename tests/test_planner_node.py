@@ -1,0 +1,188 @@
+"""The planner node in a real rclpy graph: the trainer's decisions, once per observation; zero
+Twists on stale or missing data; one-line errors for a corrupt genome or an unknown profile."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import PoseStamped, Twist
+from nav_msgs.msg import Odometry
+from rclpy.qos import qos_profile_sensor_data
+from ros_support import REGRESSION, Graph, params, run_executable
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import LaserScan
+
+from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.planning import GenomePlanner
+from mentor_core.robots import get_profile
+from mentor_planner_node.planner import QOS_COMMAND, QOS_LATCHED, PlannerNode
+from mentor_sim_node import conversions as sim_conv
+
+pytestmark = pytest.mark.ros
+
+SWARM = get_profile("swarm")
+GENOME = REGRESSION / "swarm_reference_genome.json"
+NS = "/robot_0"
+
+
+@pytest.fixture
+def graph() -> Iterator[Graph]:
+    g = Graph()
+    try:
+        yield g
+    finally:
+        g.close()
+
+
+class Robot:
+    """The test's side of one robot: publishes what the simulator would, hears cmd_vel."""
+
+    def __init__(self, graph: Graph) -> None:
+        self.node = graph.probe("fake_sim")
+        self.scan = self.node.create_publisher(LaserScan, f"{NS}/scan", qos_profile_sensor_data)
+        self.odom = self.node.create_publisher(Odometry, f"{NS}/odom", qos_profile_sensor_data)
+        self.goal = self.node.create_publisher(PoseStamped, f"{NS}/goal", QOS_LATCHED)
+        self.clock = self.node.create_publisher(Clock, "/clock", 10)
+        self.commands: list[Twist] = []
+        self.node.create_subscription(Twist, f"{NS}/cmd_vel", self.commands.append, QOS_COMMAND)
+
+    def observe(self, t_ns: int, ranges: list[float], pose: tuple[float, float, float]) -> None:
+        stamp = sim_conv.time_from_ns(t_ns)
+        self.scan.publish(sim_conv.laser_scan_from_ranges(ranges, SWARM, stamp, "b"))
+        self.odom.publish(sim_conv.odometry_from_pose(pose, (0.0, 0.0), stamp, "robot_0"))
+
+    def tick(self, t_ns: int) -> None:
+        self.clock.publish(Clock(clock=sim_conv.time_from_ns(t_ns)))
+
+
+def _planner(graph: Graph, **values: Any) -> PlannerNode:
+    values = {"genome": str(GENOME), "profile": "swarm", "use_sim_time": True, **values}
+    return graph.add(PlannerNode(context=graph.context, namespace=NS,
+                                 parameter_overrides=params(**values)))
+
+
+def test_answers_each_observation_once_with_the_trainers_decision(graph: Graph) -> None:
+    planner = _planner(graph)
+    robot = Robot(graph)
+    reference = GenomePlanner.load(GENOME, "swarm")
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    observations = [
+        ([0.31, math.inf, 0.45], (1.0, 1.0, 0.3)),
+        ([math.inf, math.inf, math.inf], (1.02, 1.05, 0.9)),
+        ([0.05, 0.2, 0.599], (2.0, 0.5, -2.0)),
+    ]
+    for k, (ranges, pose) in enumerate(observations):
+        # repeat each observation until answered: the subscriptions may still be matching
+        assert graph.spin_until(
+            lambda k=k, ranges=ranges, pose=pose: robot.observe(k * 10**9, ranges, pose)
+            or len(robot.commands) > k,
+        )
+        graph.spin_for(0.1)  # repeats of the same stamp must not be answered again
+        assert len(robot.commands) == k + 1
+        got = robot.commands[k]
+        ranges_wire = [float(np.float32(r)) for r in ranges]
+        vx, wz = reference.command(ranges_wire, pose, (3.0, 2.5))
+        assert (got.linear.x, got.angular.z) == (vx, wz)
+        assert (got.linear.y, got.linear.z, got.angular.x, got.angular.y) == (0, 0, 0, 0)
+    assert planner.decisions == 3 and planner.zero_commands == 0
+
+
+def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
+    graph: Graph, capfd: pytest.CaptureFixture[str]
+) -> None:
+    planner = _planner(graph)
+    robot = Robot(graph)
+    t = 0
+
+    def advance() -> bool:
+        nonlocal t
+        t += 250_000_000
+        robot.tick(t)
+        return bool(robot.commands)
+
+    assert graph.spin_until(advance)  # sim time passes, no data at all
+    assert all(c.linear.x == 0.0 and c.angular.z == 0.0 for c in robot.commands)
+    assert planner.zero_commands >= 1 and planner.decisions == 0
+    assert t > 3 * 10**9  # not before stale_timeout (3 control periods)
+    # data arrives: real decisions; then it stops coming: zero Twists again
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    assert graph.spin_until(lambda: robot.observe(t, [0.3] * 3, (1.0, 1.0, 0.0))
+                            or planner.decisions == 1)
+    assert graph.spin_until(lambda: any(c.linear.x > 0.0 for c in robot.commands))
+    answer = next(k for k, c in enumerate(robot.commands) if c.linear.x > 0.0)
+    assert graph.spin_until(lambda: advance() and len(robot.commands) >= answer + 4)
+    assert all(c == Twist() for c in robot.commands[answer + 1 :])
+    # the warning names the fault and is throttled: one line for many zero Twists
+    err = capfd.readouterr().err
+    assert err.count("no scan, odometry, goal received: sending a zero Twist") == 1
+    assert err.count("sending a zero Twist") < planner.zero_commands
+
+
+def test_nan_scan_is_rejected_and_the_node_keeps_running(
+    graph: Graph, capfd: pytest.CaptureFixture[str]
+) -> None:
+    planner = _planner(graph)
+    robot = Robot(graph)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    bad = LaserScan(ranges=[0.1, math.nan, 0.2])
+    bad.header.stamp = sim_conv.time_from_ns(0)
+
+    def send_bad() -> bool:
+        robot.scan.publish(bad)
+        robot.odom.publish(sim_conv.odometry_from_pose((1.0, 1.0, 0.0), (0, 0), Time(), "r"))
+        return "scan rejected: scan holds a NaN range" in capfd.readouterr().err
+
+    assert graph.spin_until(send_bad)
+    assert planner.decisions == 0 and not robot.commands
+    assert graph.spin_until(lambda: robot.observe(10**9, [0.3] * 3, (1.0, 1.0, 0.0))
+                            or planner.decisions == 1)
+
+
+def test_without_a_genome_every_answer_is_zero(graph: Graph) -> None:
+    planner = _planner(graph, genome="")
+    robot = Robot(graph)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    assert graph.spin_until(lambda: robot.observe(0, [0.3] * 3, (1.0, 1.0, 0.0))
+                            or bool(robot.commands))
+    assert robot.commands[0] == Twist() and planner.decisions == 0
+
+
+def test_bad_genome_or_profile_raises_one_line(graph: Graph, tmp_path: Path) -> None:
+    bad = tmp_path / "corrupt.json"
+    bad.write_text(GENOME.read_text()[:200])
+    with pytest.raises(FileFormatError, match=r"corrupt\.json: ") as err:
+        _planner(graph, genome=str(bad))
+    assert "\n" not in str(err.value)
+    with pytest.raises(ConfigError, match="unknown robot 'tank'"):
+        _planner(graph, profile="tank")
+    with pytest.raises(ConfigError, match="needs 11 inputs"):
+        _planner(graph, profile="ugv")  # a Swarm-Robot genome on a UGV
+    with pytest.raises(FileFormatError, match=r"missing\.json"):
+        _planner(graph, genome=str(tmp_path / "missing.json"))
+
+
+@pytest.mark.parametrize(
+    ("args", "fault"),
+    [
+        (["-p", "genome:={corrupt}", "-p", "profile:=swarm"], "corrupt.json: "),
+        (["-p", f"genome:={GENOME}", "-p", "profile:=tank"], "unknown robot 'tank'"),
+    ],
+)
+def test_planner_executable_exits_nonzero_on_bad_input(
+    args: list[str], fault: str, tmp_path: Path
+) -> None:
+    corrupt = tmp_path / "corrupt.json"
+    corrupt.write_text("{\"format\": \"mentor-genome\", \"version\": 1, \"nodes\": [")
+    rc, err = run_executable(
+        "mentor_planner_node", "planner",
+        ["--ros-args", *[a.format(corrupt=corrupt) for a in args]],
+    )
+    assert rc == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mentor_planner: ") and fault in lines[0], err

@@ -1,0 +1,164 @@
+"""The planner's decision pipeline (the trainer's own functions) and its decision gate."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.genome import minimal_genome
+from mentor_core.genome_io import save_genome
+from mentor_core.innovation import InnovationTracker
+from mentor_core.network import FeedForwardNetwork
+from mentor_core.observation import actions_from_outputs, network_inputs, twist_from_action
+from mentor_core.planning import DecisionGate, GenomePlanner
+from mentor_core.robots import get_profile
+
+UGV = get_profile("ugv")
+SWARM = get_profile("swarm")
+S = 1_000_000_000  # ns per s
+
+
+@pytest.fixture
+def swarm_genome_file(tmp_path: Path) -> Path:
+    tracker = InnovationTracker(SWARM.n_inputs + 3)
+    genome = minimal_genome(SWARM.n_inputs, 2, tracker, np.random.default_rng(1))
+    path = tmp_path / "swarm.json"
+    save_genome(genome, path)
+    return path
+
+
+def test_decisions_are_the_trainers(swarm_genome_file: Path) -> None:
+    planner = GenomePlanner.load(swarm_genome_file, "swarm")
+    net = FeedForwardNetwork.from_genome(planner.genome)
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        ranges = np.where(rng.random(3) < 0.3, np.inf, rng.uniform(0.0, 0.6, 3))
+        pose = (rng.uniform(0, 4), rng.uniform(0, 4), rng.uniform(-math.pi, math.pi))
+        goal = (rng.uniform(0, 4), rng.uniform(0, 4))
+        inputs = network_inputs(ranges[None], np.array([pose]), np.array([goal]), SWARM)
+        dtheta, ds = actions_from_outputs(net.activate(inputs), SWARM)
+        assert planner.decide(ranges, pose, goal) == (float(dtheta[0]), float(ds[0]))
+        wz, vx = twist_from_action(dtheta[0], ds[0], 1.0)
+        assert planner.command(ranges, pose, goal) == (float(vx), float(wz))
+        assert -math.pi <= dtheta[0] <= math.pi and 0.01 <= ds[0] <= 0.08
+
+
+def test_bad_inputs_are_refused(swarm_genome_file: Path) -> None:
+    planner = GenomePlanner.load(swarm_genome_file, "swarm")
+    with pytest.raises(ValueError, match="NaN"):
+        planner.decide([math.nan, 0.1, 0.1], (1.0, 1.0, 0.0), (2.0, 2.0))
+    with pytest.raises(ValueError):
+        planner.decide([0.1, 0.1], (1.0, 1.0, 0.0), (2.0, 2.0))
+
+
+def test_corrupt_genome_unknown_profile_and_misfit(
+    swarm_genome_file: Path, tmp_path: Path
+) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text(swarm_genome_file.read_text()[:100])
+    with pytest.raises(FileFormatError, match=r"bad\.json"):
+        GenomePlanner.load(bad, "swarm")
+    with pytest.raises(ConfigError, match="unknown robot 'tank'"):
+        GenomePlanner.load(swarm_genome_file, "tank")
+    with pytest.raises(ConfigError, match="needs 11 inputs"):
+        GenomePlanner.load(swarm_genome_file, "ugv")
+    for err in (FileFormatError, ConfigError):
+        assert issubclass(err, ValueError)
+    data = json.loads(swarm_genome_file.read_text())
+    data["connections"][0]["weight"] = "heavy"
+    bad.write_text(json.dumps(data))
+    with pytest.raises(FileFormatError):
+        GenomePlanner.load(bad, "swarm")
+
+
+def test_gate_answers_each_synchronised_observation_once() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
+    gate.on_scan(0, [0.1, 0.2, 0.3])
+    gate.on_odometry(0, (1.0, 1.0, 0.0))
+    assert gate.take(0) is None  # no goal yet
+    gate.on_goal((2.0, 2.0))
+    obs = gate.take(0)
+    assert obs is not None and obs.stamp_ns == 0 and obs.goal == (2.0, 2.0)
+    np.testing.assert_array_equal(obs.ranges, [0.1, 0.2, 0.3])
+    assert gate.take(0) is None  # answered once
+    gate.on_scan(0, [0.1, 0.2, 0.3])  # the simulator repeats an unanswered observation
+    assert gate.take(0) is None
+    gate.on_scan(1 * S, [0.2, 0.2, 0.3])
+    assert gate.take(0) is None  # odometry of the new stamp not there yet
+    gate.on_odometry(1 * S, (1.1, 1.0, 0.0))
+    obs = gate.take(1 * S)
+    assert obs is not None and obs.pose == (1.1, 1.0, 0.0)
+    # a simulator that restarts: the clock jumps back, the planner follows
+    gate.on_scan(0, [0.3, 0.3, 0.3])
+    gate.on_odometry(0, (0.5, 0.5, 0.0))
+    assert gate.take(2 * S) is not None
+
+
+def test_gate_sync_tolerance() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.05)
+    gate.on_goal((0.0, 0.0))
+    gate.on_scan(1_000_000_000, [1.0] * 8)
+    gate.on_odometry(1_040_000_000, (1.0, 1.0, 0.0))
+    obs = gate.take(0)
+    assert obs is not None and obs.stamp_ns == 1_040_000_000
+    gate.on_scan(2_000_000_000, [1.0] * 8)
+    gate.on_odometry(2_060_000_000, (1.0, 1.0, 0.0))
+    assert gate.take(0) is None
+
+
+def test_watchdog_reports_missing_and_stale_data() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
+    assert gate.watchdog(10 * S) is None  # counts from its first call
+    assert gate.watchdog(13 * S) is None
+    assert gate.watchdog(14 * S) == "no scan, odometry, goal received"
+    gate.on_goal((1.0, 1.0))
+    gate.on_scan(0, [1.0] * 3)
+    gate.on_odometry(0, (0.0, 0.0, 0.0))
+    assert gate.take(14 * S) is not None
+    assert gate.watchdog(17 * S) is None
+    msg = gate.watchdog(18 * S)
+    assert msg is not None and msg.startswith("no new scan and odometry for 4.000 s")
+    gate.on_odometry(5 * S, (0.0, 0.0, 0.0))
+    assert "differ by 5.000 s" in (gate.watchdog(18 * S) or "")
+
+
+def test_watchdog_is_quiet_between_episodes() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
+    gate.on_goal((1.0, 1.0))
+    gate.on_scan(0, [1.0] * 3)
+    gate.on_odometry(0, (0.0, 0.0, 0.0))
+    assert gate.take(0) is not None
+    gate.on_event("reached", 1 * S)
+    assert gate.idle and gate.watchdog(100 * S) is None
+    gate.on_event("started", 100 * S)  # the next episode: the watchdog counts afresh
+    assert not gate.idle
+    assert gate.watchdog(103 * S) is None
+    assert gate.watchdog(104 * S) is not None
+    with pytest.raises(ValueError):
+        DecisionGate(stale_after=0.0, sync_tolerance=0.0)
+    with pytest.raises(ValueError):
+        DecisionGate(stale_after=1.0, sync_tolerance=-1.0)
+
+
+def test_between_episodes_nothing_is_answered_and_the_new_goal_comes_with_started() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
+    gate.on_goal((1.0, 1.0))
+    gate.on_scan(0, [1.0] * 3)
+    gate.on_odometry(0, (0.0, 0.0, 0.0))
+    assert gate.take(0) is not None
+    gate.on_event("reached", 1 * S)
+    # the next episode's observation arrives before its started event: it waits
+    gate.on_scan(2 * S, [0.5] * 3)
+    gate.on_odometry(2 * S, (3.0, 3.0, 0.0))
+    assert gate.take(2 * S) is None
+    gate.on_event("started", 2 * S, goal=(4.0, 0.5))
+    obs = gate.take(2 * S)
+    assert obs is not None and obs.goal == (4.0, 0.5) and obs.stamp_ns == 2 * S
+    # a goal topic message with the same goal later changes nothing
+    gate.on_goal((4.0, 0.5))
+    assert gate.take(2 * S) is None

@@ -1,0 +1,160 @@
+"""End to end: the simulator node and planner nodes exchange real messages, and the episodes
+they produce equal mentor_core's in-process episodes for the same genome and scenarios.
+
+The in-process reference is :func:`mentor_core.simulator.run_reference_episode`: the same
+pymunk physics, the planner's :class:`GenomePlanner`, and the values a message carries (float32
+scan ranges, the heading through a quaternion, the decision through a Twist). Agreement is
+asserted within 1e-6 m; it is in fact exact.
+
+(The trainer's batched engine, :func:`mentor_core.episode.run_episodes`, feeds its networks
+float64 readings; the float32 of a LaserScan changes the inputs by ~1e-7 relative, which a
+trained network may amplify over tens of decisions, so ROS episodes are compared with the
+reference that mirrors the wire, not with the trainer's episodes. ``tests/test_simulator.py``
+compares the reference with the trainer's episodes for untrained networks.)
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+from ros_support import REGRESSION, ROOT, Graph, params, workspace_env
+
+from mentor_core.bagio import read_episode_bag
+from mentor_core.observation import twist_from_action
+from mentor_core.planning import GenomePlanner
+from mentor_core.recording import recorded_episodes
+from mentor_core.robots import get_profile
+from mentor_core.scenarios import training_scenarios
+from mentor_core.simulator import RobotSetup, run_reference_episode
+from mentor_core.world import save_world
+from mentor_planner_node.planner import PlannerNode
+from mentor_sim_node.sim import SimNode
+
+pytestmark = pytest.mark.ros
+
+TOLERANCE = 1e-6  # m
+EPISODES = 3
+
+
+@pytest.fixture
+def graph() -> Iterator[Graph]:
+    g = Graph()
+    try:
+        yield g
+    finally:
+        g.close()
+
+
+def _genome(robot: str) -> Path:
+    return REGRESSION / f"{robot}_reference_genome.json"
+
+
+def _planner(graph: Graph, ns: str, robot: str) -> PlannerNode:
+    values = {"genome": str(_genome(robot)), "profile": robot, "use_sim_time": True}
+    return graph.add(
+        PlannerNode(
+            context=graph.context, namespace=f"/{ns}", parameter_overrides=params(**values)
+        )
+    )
+
+
+def _heading_error(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.abs(np.remainder(a - b + np.pi, 2 * np.pi) - np.pi).max())
+
+
+@pytest.mark.parametrize("robot", ["ugv", "swarm"])
+def test_episodes_through_ros_equal_the_in_process_episodes(
+    graph: Graph, tmp_path: Path, robot: str
+) -> None:
+    profile = get_profile(robot)
+    scenarios = training_scenarios(profile, 0, n=EPISODES)
+    world = scenarios[0].world
+    save_world(tmp_path / "world.yaml", world, scenarios)
+    bag = tmp_path / "episodes"
+    sim = graph.add(
+        SimNode(
+            context=graph.context,
+            parameter_overrides=params(
+                robots=["robot_0"], profiles=[robot], world=str(tmp_path / "world.yaml"),
+                episodes=EPISODES, record=str(bag),
+            ),
+        )
+    )
+    planner = _planner(graph, "robot_0", robot)
+    assert graph.spin_until(lambda: sim.finished)
+    runs = recorded_episodes(read_episode_bag(bag), bag)
+    assert [r.setup.scenario for r in runs] == list(range(EPISODES))
+    reference = GenomePlanner.load(_genome(robot), robot)
+    worst = 0.0
+    for run in runs:
+        trace = run_reference_episode(world, [run.setup], {"robot_0": reference.decide})
+        ref = trace["robot_0"]
+        assert run.outcome == ref.outcome
+        assert len(run.odometry) == ref.steps + 1 and len(run.commands) == ref.steps
+        poses = np.array([o.pose for o in run.odometry])
+        worst = max(worst, float(np.abs(poses[:, :2] - ref.poses[:, :2]).max()))
+        assert np.abs(poses[:, :2] - ref.poses[:, :2]).max() <= TOLERANCE
+        assert _heading_error(poses[:, 2], ref.poses[:, 2]) <= 1e-9
+        np.testing.assert_array_equal(np.array([s.ranges for s in run.scans]), ref.ranges)
+        wz, vx = twist_from_action(ref.decisions[:, 0], ref.decisions[:, 1], 1.0)
+        np.testing.assert_array_equal([c.linear_x for c in run.commands], vx)
+        np.testing.assert_array_equal([c.angular_z for c in run.commands], wz)
+    assert worst == 0.0  # not only within 1e-6 m: the very same numbers
+    assert planner.decisions == sum(len(r.commands) for r in runs)
+    assert planner.zero_commands == 0
+
+
+def test_robots_of_both_kinds_share_a_world_through_ros(graph: Graph) -> None:
+    """A UGV and a Swarm-Robot in one world, each with its own planner; the episode equals
+    the in-process one with both robots in it (they see and may hit each other)."""
+    robots = {"ugv_0": "ugv", "swarm_0": "swarm"}
+    sim = graph.add(
+        SimNode(
+            context=graph.context,
+            parameter_overrides=params(
+                robots=list(robots), profiles=list(robots.values()), episodes=2
+            ),
+        )
+    )
+    planners = [_planner(graph, ns, robot) for ns, robot in robots.items()]
+    assert graph.spin_until(lambda: sim.finished)
+    scenarios = training_scenarios(get_profile("ugv"), 0)  # the simulator's default source
+    policies = {
+        ns: GenomePlanner.load(_genome(robot), robot).decide for ns, robot in robots.items()
+    }
+    for episode in range(2):
+        setups = [
+            RobotSetup(ns, get_profile(robot), scenarios[2 * episode + j].start,
+                       scenarios[2 * episode + j].goal, 2 * episode + j)
+            for j, (ns, robot) in enumerate(robots.items())
+        ]
+        ref = run_reference_episode(scenarios[0].world, setups, policies)
+        got = {o.robot: o for o in sim.outcomes if o.episode == episode}
+        assert set(got) == set(robots)
+        for ns, o in got.items():
+            assert (o.event, o.scenario, o.steps) == (ref[ns].outcome, ref[ns].scenario,
+                                                      ref[ns].steps)
+            assert o.time_used == ref[ns].time_used
+            assert np.abs(np.array(o.pose[:2]) - ref[ns].poses[-1, :2]).max() <= TOLERANCE
+    assert all(p.decisions > 0 and p.zero_commands == 0 for p in planners)
+
+
+def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(tmp_path: Path) -> None:
+    exe = ROOT / "ros2_ws/install/mentor_sim_node/lib/mentor_sim_node/demo"
+    assert exe.is_file(), "run `bash scripts/bootstrap.sh` first"
+    env = workspace_env()
+    proc = subprocess.run(
+        [str(exe), "--robots", "ugv", "swarm", "--episodes", "1", "--timeout", "30"],
+        cwd=ROOT, env=env, capture_output=True, timeout=60,
+    )
+    out = proc.stdout.decode()
+    assert proc.returncode == 0, proc.stderr.decode()[-2000:]
+    lines = out.strip().splitlines()
+    assert len(lines) == 2 and lines[0].startswith("episode 0: ugv_0 ")
+    assert lines[1].startswith("episode 0: swarm_0 ")
+    assert env["ROS_DOMAIN_ID"] == os.environ["ROS_DOMAIN_ID"]

@@ -1,0 +1,86 @@
+"""Scenario sources (world file, scenario bag, training DoE) and who runs what when."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mentor_core.bagio import write_scenario_bag
+from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.robots import get_profile
+from mentor_core.scenario_plan import ScenarioPlan, ScenarioSource, load_scenario_source
+from mentor_core.world import Scenario, World, save_world
+
+UGV = get_profile("ugv")
+SWARM = get_profile("swarm")
+
+
+@pytest.fixture
+def world() -> World:
+    return World(5.0, np.array([[2.0, 2.0, 3.0, 3.0]]), name="box")
+
+
+@pytest.fixture
+def scenarios(world: World) -> list[Scenario]:
+    return [
+        Scenario(world, (0.5, 0.5, 0.0), (4.5, 4.5)),
+        Scenario(world, (2.0, 1.9, 0.0), (4.5, 0.5)),  # centre outside, UGV body in the box
+        Scenario(world, (4.5, 0.5, 1.0), (0.5, 4.5)),
+    ]
+
+
+def test_sources(tmp_path: Path, world: World, scenarios: list[Scenario]) -> None:
+    save_world(tmp_path / "w.yaml", world, scenarios)
+    src = load_scenario_source(world_file=tmp_path / "w.yaml")
+    assert src.world == world and list(src.scenarios) == scenarios
+    assert src.origin == str(tmp_path / "w.yaml")
+    write_scenario_bag(tmp_path / "bag", world, scenarios, "ugv")
+    src = load_scenario_source(scenario_bag=tmp_path / "bag")
+    assert src.world == world and len(src.scenarios) == 3
+    src = load_scenario_source(profile=SWARM, seed=4)
+    assert len(src.scenarios) == SWARM.train_scenarios and "seed 4" in src.origin
+    assert src.world.size == SWARM.train_arena
+
+
+def test_bad_sources(tmp_path: Path, world: World) -> None:
+    with pytest.raises(ConfigError, match="not both"):
+        load_scenario_source("a.yaml", "b")
+    with pytest.raises(ConfigError):
+        load_scenario_source()
+    with pytest.raises(FileFormatError, match=r"missing\.yaml"):
+        load_scenario_source(world_file=tmp_path / "missing.yaml")
+    save_world(tmp_path / "empty.yaml", world)
+    with pytest.raises(FileFormatError, match="no scenarios"):
+        load_scenario_source(world_file=tmp_path / "empty.yaml")
+    (tmp_path / "inside.yaml").write_text(
+        "format: mentor-world\nversion: 1\nsize: 5.0\nobstacles: [[1, 1, 2, 2]]\n"
+        "scenarios:\n  - {start: [1.5, 1.5, 0.0], goal: [4, 4]}\n"
+    )
+    with pytest.raises(FileFormatError, match=r"inside\.yaml: scenarios\[0\]: start .* inside"):
+        load_scenario_source(world_file=tmp_path / "inside.yaml")
+    with pytest.raises(FileFormatError, match="no such bag"):
+        load_scenario_source(scenario_bag=tmp_path / "nobag")
+
+
+def test_plan_skips_what_a_robot_cannot_start(world: World, scenarios: list[Scenario]) -> None:
+    src = ScenarioSource(world, tuple(scenarios), "w.yaml")
+    plan = ScenarioPlan(src, [("a", UGV), ("b", SWARM)], time_limit=50.0)
+    assert plan.runnable == ((0, 2), (0, 1, 2))
+    assert len(plan.skipped) == 1 and plan.skipped[0].startswith("scenario 1 skipped for a (ugv)")
+    first = plan.setups(0)
+    assert [(s.name, s.scenario) for s in first] == [("a", 0), ("b", 1)]
+    assert all(s.time_budget == 50.0 for s in first)
+    assert [(s.name, s.scenario) for s in plan.setups(1)] == [("a", 0), ("b", 0)]
+    assert plan.setups(0)[1].start == scenarios[1].start
+
+
+def test_plan_fails_when_a_robot_can_start_nowhere(
+    world: World, scenarios: list[Scenario]
+) -> None:
+    src = ScenarioSource(world, (scenarios[1],), "w.yaml")
+    with pytest.raises(FileFormatError, match=r"w\.yaml: no scenario can start robot a \(ugv\)"):
+        ScenarioPlan(src, [("a", UGV)])
+    with pytest.raises(ConfigError):
+        ScenarioPlan(src, [])
