@@ -13,10 +13,10 @@ decision the range sensors (numba ray casts), the network inputs
 :class:`mentor_core.engine.BatchEngine` (numba collision kernels) and the experience-point
 bookkeeping. Neither side computes objectives or the experience MST.
 
-* mentor_core ("ours"): ``NavigationProblem.simulate(genomes)``, the trainer's path: every
-  genome compiled to :class:`mentor_core.network.FeedForwardNetwork` (compile time included),
-  then all ``genomes x scenarios`` robots stepped together, one vectorised network call per
-  genome per decision over that genome's active robots.
+* mentor_core ("ours"): ``NavigationProblem.simulate(genomes)``, the trainer's path: all
+  genomes compiled into one :class:`mentor_core.batch_network.BatchNetwork` (compile time
+  included), then all ``genomes x scenarios`` robots stepped together, one batched network
+  call per decision over all active robots of all genomes.
 * neat-python: each genome converted to a ``neat.DefaultGenome`` (same nodes, connections,
   weights; our bias-node connections become neat's node biases; NEAT's sigmoid
   ``1/(1+exp(-4.9 x))`` registered as a custom activation because neat-python's own sigmoid
@@ -31,9 +31,9 @@ nothing else. Before timing, the two sides must agree: network outputs on random
 the actions of the first decisions of a few robots to 1e-9 (the script stops otherwise).
 Times are wall-clock seconds, best of ``--repeats`` on each side; the machine's load average
 is printed alongside. ``network_share_of_time``: the share spent inside the network's
-``activate`` (ours from a separate clocked run, neat-python's from clocks around each call,
-~0.1 us per call); ``network_only_ratio_estimate``: neat-python's activate seconds per
-robot-step over ours.
+``activate`` (ours: ``BatchNetwork.activate``, from a separate clocked run; neat-python's
+from clocks around each call, ~0.1 us per call); ``network_only_ratio_estimate``:
+neat-python's activate seconds per robot-step over ours.
 """
 
 from __future__ import annotations
@@ -53,7 +53,8 @@ import neat
 import numpy as np
 from generation_bench import evolved_looking
 
-import mentor_core.network
+import mentor_core.batch_network
+from mentor_core.batch_network import BatchNetwork
 from mentor_core.episode import EpisodeBatch, run_episodes
 from mentor_core.genome import Genome
 from mentor_core.network import NEAT_SIGMOID_SLOPE, FeedForwardNetwork
@@ -287,19 +288,19 @@ def main() -> None:
 
     # breakdown run (not the headline): time inside our network's activate
     net_clock = [0.0]
-    plain_activate = mentor_core.network.FeedForwardNetwork.activate
+    plain_activate = mentor_core.batch_network.BatchNetwork.activate
 
-    def clocked(self: FeedForwardNetwork, inputs: Any) -> Any:
+    def clocked(self: BatchNetwork, inputs: Any, owners: Any, **kwargs: Any) -> Any:
         t0 = time.perf_counter()
-        out = plain_activate(self, inputs)
+        out = plain_activate(self, inputs, owners, **kwargs)
         net_clock[0] += time.perf_counter() - t0
         return out
 
-    mentor_core.network.FeedForwardNetwork.activate = clocked  # type: ignore[method-assign]
+    mentor_core.batch_network.BatchNetwork.activate = clocked  # type: ignore[method-assign]
     t0 = time.perf_counter()
     problem.simulate(genomes)
     ours_breakdown_s = time.perf_counter() - t0
-    mentor_core.network.FeedForwardNetwork.activate = plain_activate  # type: ignore[method-assign]
+    mentor_core.batch_network.BatchNetwork.activate = plain_activate  # type: ignore[method-assign]
 
     # ---- neat-python: one robot at a time -----------------------------------------------
     neat_s, neat_net_s = float("inf"), 0.0
@@ -345,10 +346,11 @@ def main() -> None:
             "tolerance": TOL,
         },
         "ours": {
-            "includes": "NavigationProblem.simulate: compile every genome to mentor_core "
-                        "FeedForwardNetwork + run_episodes on all genomes x scenarios robots "
-                        "at once (sensors, inputs, batched network per genome, actions, "
-                        "swept-arc step, experience points); no objectives, no MST",
+            "includes": "NavigationProblem.simulate: compile all genomes into one mentor_core "
+                        "BatchNetwork + run_episodes on all genomes x scenarios robots "
+                        "at once (sensors, inputs, one batched network call over all "
+                        "genomes' robots, actions, swept-arc step, experience points); no "
+                        "objectives, no MST",
             "robots_per_simulator_call": args.genomes * n_scen,
             "robot_steps": ours_steps,
             "seconds_best": ours_s,

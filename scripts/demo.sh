@@ -1,15 +1,30 @@
 #!/usr/bin/env bash
-# README command one: bootstrap the environment, then run the main job on a small default.
-# Until the trainer lands (issue 5) the main job is the classic NEAT XOR benchmark.
+# README command one: bootstrap the environment, then run the main job on a small default:
+# train the Swarm-Robot planner with both frameworks (quick config), evaluate both best
+# genomes on the unseen environment (bags/unseen/swarm) and write the report with its figures.
+# Usage: scripts/demo.sh [OUT_DIR] [SEED]      (default out/demo, seed 1)
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
 cd "$ROOT"
 export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
 OUT="${1:-$ROOT/out/demo}"
+SEED="${2:-1}"
+BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
-echo "== XOR benchmark (10 seeded runs, population 150)" >&2
-.venv/bin/mentor-xor --runs 10 --seed 0 | tee "$OUT/xor.json"
-echo "== drawing a UGV training world" >&2
-.venv/bin/mentor-draw --robot ugv --seed 0 --scenario 0 --out "$OUT/world_ugv.png"
-echo "demo: results in $OUT" >&2
+for fw in single dual; do
+  run="$OUT/swarm-$fw"
+  # a finished run is kept; an interrupted one continues where it stopped
+  resume=()
+  [ -f "$run/checkpoint.json" ] && resume=(--resume)
+  echo "== training the Swarm-Robot planner, $fw-stage (quick config)" >&2
+  "$BIN/mentor-train" --robot swarm --framework "$fw" --config quick --seed "$SEED" \
+    --out "$run" "${resume[@]}"
+done
+echo "== evaluating both best genomes on the unseen environment bags/unseen/swarm" >&2
+"$BIN/mentor-eval" "$OUT/swarm-single/best_genome.json" "$OUT/swarm-dual/best_genome.json" \
+  --bag "$ROOT/bags/unseen/swarm" --label single --label dual --out "$OUT/eval_unseen.json"
+echo "== writing the report" >&2
+"$BIN/mentor-report" "$OUT/swarm-single" "$OUT/swarm-dual" --eval "$OUT/eval_unseen.json" \
+  --out "$OUT/report"
+echo "demo: report at $OUT/report/report.md" >&2

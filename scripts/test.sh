@@ -10,7 +10,7 @@ export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-42}"
 export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
 echo "== ruff" >&2
-.venv/bin/ruff check mentor_core tests benchmarks mentor_sim_node mentor_planner_node
+.venv/bin/ruff check mentor_core tests benchmarks scripts mentor_sim_node mentor_planner_node
 echo "== mypy --strict mentor_core" >&2
 .venv/bin/mypy --strict mentor_core/src/mentor_core
 echo "== pytest" >&2

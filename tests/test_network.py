@@ -18,7 +18,7 @@ from mentor_core.genome import (
 )
 from mentor_core.innovation import InnovationTracker
 from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.network import FeedForwardNetwork
+from mentor_core.network import FeedForwardNetwork, weighted_sum
 
 
 def _naive_activation(name: str, x: float) -> float:
@@ -124,11 +124,10 @@ def test_batch_matches_naive_reference_on_evolved_genome(seed: int) -> None:
 
 
 def test_batch_equals_single_rows() -> None:
-    """Batch of N rows gives the N single-row results.
+    """Batch of N rows gives the N single-row results, bit for bit.
 
-    Only to rounding: ``activate`` uses one BLAS dot product per node (``weights @ values``),
-    whose summation order may depend on the batch width, so results may differ in the last
-    bit between batch sizes (the implementation does not promise bit-identity).
+    Each weighted sum has a fixed order (gene order, one rounded product and one rounded sum
+    per term, never BLAS), so a row's outputs do not depend on the batch around it.
     """
     g = evolved_genome(3)
     net = FeedForwardNetwork.from_genome(g)
@@ -136,9 +135,27 @@ def test_batch_equals_single_rows() -> None:
     batch = net.activate(x)
     singles = np.stack([net.activate(row) for row in x])
     assert singles.shape == batch.shape
-    np.testing.assert_allclose(batch, singles, rtol=0, atol=1e-13)
+    np.testing.assert_array_equal(batch, singles)
     for n in (1, 2, 5, 17):
-        np.testing.assert_allclose(net.activate(x[:n]), batch[:n], rtol=0, atol=1e-13)
+        np.testing.assert_array_equal(net.activate(x[:n]), batch[:n])
+    np.testing.assert_array_equal(net.activate(x[::-1]), batch[::-1])
+
+
+def test_weighted_sum_is_sequential_in_gene_order_without_fma() -> None:
+    """Terms 1, 1e16, 1e16 * -1 in gene order sum to 0 (another order: 1); round(w v) + s,
+    not fma(w, v, s) (which would give 2**-60 on the second genome)."""
+    cancel = genome_from_edges(
+        3, 1, [(0, 4, 1.0), (1, 4, 1.0), (2, 4, -1.0)], output_activation="identity"
+    )
+    x = np.array([[1.0, 1e16, 1e16]] * 3)
+    np.testing.assert_array_equal(FeedForwardNetwork.from_genome(cancel).activate(x), 0.0)
+    fma = genome_from_edges(2, 1, [(0, 3, -1.0), (1, 3, 1.0 + 2.0**-30)],
+                            output_activation="identity")
+    y = np.array([[1.0 + 2.0**-29, 1.0 + 2.0**-30]])
+    assert FeedForwardNetwork.from_genome(fma).activate(y)[0, 0] == 0.0
+    sums = weighted_sum(np.array([2.0, -3.0]), np.array([[1.0, 0.5], [4.0, -1.0]]))
+    np.testing.assert_array_equal(sums, [2.0 - 12.0, 1.0 + 3.0])
+    np.testing.assert_array_equal(weighted_sum(np.zeros(0), np.zeros((0, 3))), np.zeros(3))
 
 
 def test_one_dimensional_input_gives_one_dimensional_output() -> None:

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from mentor_core.batch_network import BatchNetwork
 from mentor_core.episode import EpisodeBatch, run_episodes
 from mentor_core.experience import experience_gains
 from mentor_core.genome import Genome
-from mentor_core.network import FeedForwardNetwork
 from mentor_core.objectives import scenario_performance
 from mentor_core.robots import RobotProfile
 from mentor_core.world import Scenario
@@ -68,19 +68,19 @@ class NavigationProblem:
         return self.profile.n_inputs
 
     def simulate(self, genomes: Sequence[Genome]) -> EpisodeBatch:
-        """Run every genome on every scenario; robot ``g * n_scenarios + s`` is (g, s)."""
+        """Run every genome on every scenario; robot ``g * n_scenarios + s`` is (g, s).
+
+        All genomes are compiled into one :class:`~mentor_core.batch_network.BatchNetwork`,
+        so each decision evaluates every active robot's network in one batched call; a
+        robot's outputs do not depend on which other robots share it.
+        """
+        if not genomes:
+            raise ValueError("simulate needs at least one genome")
         n_scen = len(self.scenarios)
-        networks = [FeedForwardNetwork.from_genome(g) for g in genomes]
+        network = BatchNetwork.from_genomes(genomes)
 
         def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
-            outputs = np.empty((len(robots), 2), dtype=np.float64)
-            owners = robots // n_scen
-            # robots arrive sorted by index, so each genome's rows form one contiguous block
-            starts = np.flatnonzero(np.r_[True, owners[1:] != owners[:-1]])
-            ends = np.r_[starts[1:], len(owners)]
-            for lo, hi in zip(starts, ends, strict=True):
-                outputs[lo:hi] = networks[int(owners[lo])].activate(inputs[lo:hi])
-            return outputs
+            return network.activate(inputs, robots // n_scen)
 
         return run_episodes(list(self.scenarios) * len(genomes), self.profile, policy)
 

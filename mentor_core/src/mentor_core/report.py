@@ -686,7 +686,7 @@ def trajectories(
             mec="black",
             ms=10,
             ls="none",
-            label=f"goal (radius {goal_radius:g} m)" if goal_radius > 0 else "goal",
+            label=f"goal (radius {goal_radius:.2g} m)" if goal_radius > 0 else "goal",
         ),
     ]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
@@ -705,7 +705,8 @@ def trajectories(
 
 def _png(fig: Figure) -> bytes:
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=_DPI)
+    # "tight" keeps legends placed outside the axes inside the picture
+    fig.savefig(buf, format="png", dpi=_DPI, bbox_inches="tight", pad_inches=0.1)
     return buf.getvalue()
 
 
