@@ -240,3 +240,17 @@ def test_config_refuses_bad_values(key: str, value: float) -> None:
     with pytest.raises(ConfigError) as err:
         MutationConfig(**{key: value})
     assert err.value.key == key
+
+
+def test_max_hidden_stops_add_node_and_nothing_else() -> None:
+    tracker = InnovationTracker(6 + 1 + 2)
+    rng = np.random.default_rng(4)
+    g = minimal_genome(6, 2, tracker, rng)
+    cfg = MutationConfig(node_rate=0.5, edge_rate=0.5, max_hidden=5)
+    for _ in range(8):
+        g = mutate(g, cfg, tracker, rng)
+        tracker.new_generation()
+        validate_genome(g)
+    assert len(g.hidden_nodes) == 5  # reached the cap and stayed there
+    with pytest.raises(ConfigError, match="max_hidden"):
+        MutationConfig(max_hidden=-1)

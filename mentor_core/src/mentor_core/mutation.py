@@ -46,7 +46,13 @@ _POSITIVE_FIELDS = ("weight_perturb_sigma", "weight_init_sigma", "weight_max")
 
 @dataclass(frozen=True)
 class MutationConfig:
-    """Mutation probabilities and weight parameters (defaults: the paper's UGV case)."""
+    """Mutation probabilities and weight parameters (defaults: the paper's UGV case).
+
+    ``max_hidden`` (None: no limit) stops add-node once a genome has that many hidden nodes.
+    The paper's per-edge add-node rate makes the expected growth proportional to the size, so
+    sizes grow geometrically along a lineage when nothing selects against them (stage 2 and
+    XOR have no complexity pressure): an evaluation cost that doubles every few generations.
+    """
 
     weight_rate: float = 0.25
     weight_perturb_sigma: float = 0.5
@@ -55,9 +61,15 @@ class MutationConfig:
     weight_max: float = 8.0
     node_rate: float = 0.05
     edge_rate: float = 0.03
+    max_hidden: int | None = None
 
     def __post_init__(self) -> None:
+        cap = self.max_hidden
+        if cap is not None and (isinstance(cap, bool) or not isinstance(cap, int) or cap < 0):
+            raise ConfigError(f"must be None or an int >= 0, got {cap!r}", key="max_hidden")
         for f in fields(self):
+            if f.name == "max_hidden":
+                continue
             value = getattr(self, f.name)
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ConfigError(f"must be a number, got {value!r}", key=f.name)
@@ -105,15 +117,18 @@ def _add_nodes(
     tracker: InnovationTracker,
     rng: np.random.Generator,
 ) -> tuple[list[ConnectionGene], list[NodeGene]]:
-    """Split each enabled edge with probability ``node_rate``."""
+    """Split each enabled edge with probability ``node_rate`` (up to ``max_hidden`` nodes)."""
     split = rng.random(len(connections)) < cfg.node_rate
     nodes = list(genome.nodes)
     taken = {n.id for n in nodes}
+    cap = cfg.max_hidden
+    room = len(connections) if cap is None else cap - len(genome.hidden_nodes)
     out: list[ConnectionGene] = []
     for c, do_split in zip(connections, split, strict=True):
-        if not (do_split and c.enabled):
+        if not (do_split and c.enabled) or room <= 0:
             out.append(c)
             continue
+        room -= 1
         node = tracker.split(c.innovation, taken)
         taken.add(node)
         nodes.append(NodeGene(node, "hidden", genome.hidden_activation))
