@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
@@ -35,3 +37,15 @@ def ros_env() -> dict[str, str]:
     env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     env["ROS_DOMAIN_ID"] = str(ROS_DOMAIN_ID)
     return env
+
+
+@pytest.fixture
+def graph() -> Iterator[Any]:
+    """A ``ros_support.Graph`` (rclpy context + executor on sim time), closed after the test."""
+    from ros_support import Graph  # rclpy only for the tests that ask for a graph
+
+    g = Graph()
+    try:
+        yield g
+    finally:
+        g.close()

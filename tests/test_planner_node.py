@@ -4,7 +4,6 @@ Twists on stale or missing data; one-line errors for a corrupt genome or an unkn
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -30,14 +29,6 @@ SWARM = get_profile("swarm")
 GENOME = REGRESSION / "swarm_reference_genome.json"
 NS = "/robot_0"
 
-
-@pytest.fixture
-def graph() -> Iterator[Graph]:
-    g = Graph()
-    try:
-        yield g
-    finally:
-        g.close()
 
 
 class Robot:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import os
 import subprocess
-from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -40,14 +39,6 @@ pytestmark = pytest.mark.ros
 TOLERANCE = 1e-6  # m
 EPISODES = 3
 
-
-@pytest.fixture
-def graph() -> Iterator[Graph]:
-    g = Graph()
-    try:
-        yield g
-    finally:
-        g.close()
 
 
 def _genome(robot: str) -> Path:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -42,14 +41,6 @@ SCENARIOS = [
     Scenario(WORLD, (3.0, 2.5, math.pi), (0.5, 1.5)),
 ]
 
-
-@pytest.fixture
-def graph() -> Iterator[Graph]:
-    g = Graph()
-    try:
-        yield g
-    finally:
-        g.close()
 
 
 @pytest.fixture
