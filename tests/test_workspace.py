@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 from ament_index_python.packages import get_package_prefix
+from ros_support import workspace_env
 
 ROOT = Path(__file__).resolve().parents[1]
 INSTALL = ROOT / "ros2_ws" / "install"
@@ -30,17 +31,7 @@ def ws_env() -> dict[str, str]:
     """The environment after ``source ros2_ws/install/local_setup.bash`` (plus ROS isolation)."""
     if not (INSTALL / "local_setup.bash").is_file():
         pytest.fail("ros2_ws/install is missing: run `bash scripts/bootstrap.sh` first")
-    out = subprocess.run(
-        ["bash", "-c", f"source '{INSTALL}/local_setup.bash' && env -0"],
-        capture_output=True,
-        check=True,
-        env=dict(os.environ),
-        timeout=60,
-    )
-    env = dict(item.split("=", 1) for item in out.stdout.decode().split("\0") if "=" in item)
-    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"  # set by conftest; kept explicit
-    env["ROS_DOMAIN_ID"] = os.environ["ROS_DOMAIN_ID"]
-    return env
+    return workspace_env()
 
 
 def resolve(pkg: str, exe: str, env: dict[str, str], monkeypatch: pytest.MonkeyPatch) -> Path:
