@@ -9,16 +9,18 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mentor_core.errors import ConfigError
 from mentor_core.observation import (
     action_from_twist,
     actions_from_outputs,
     clip_ranges,
+    egocentric_goal,
     experience_point,
     network_inputs,
     signal_gradient,
     twist_from_action,
 )
-from mentor_core.robots import get_profile
+from mentor_core.robots import get_profile, with_encoding
 
 SWARM = get_profile("swarm")
 UGV = get_profile("ugv")
@@ -50,6 +52,53 @@ def test_network_inputs_layout_and_values() -> None:
     np.testing.assert_allclose(x[0, 3:5], [0.0, r**2 / 4.0], atol=1e-15)
     np.testing.assert_allclose(x[1, 3:5], [1.0, 0.0])
     np.testing.assert_allclose(x[:, 5], [-math.pi / 2, math.pi])
+
+
+def test_egocentric_inputs_give_the_goal_bearing_in_the_body_frame_and_the_signal() -> None:
+    ego = with_encoding(SWARM, "egocentric")
+    r = SWARM.goal_radius
+    ranges = [[0.2, math.inf, 0.3]] * 4
+    # heading +y; goal 2 m ahead, 2 m to the left, 2 m behind, and on the robot
+    poses = [(1.0, 1.0, math.pi / 2)] * 4
+    goals = [(1.0, 3.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)]
+    x = network_inputs(ranges, poses, goals, ego)
+    assert x.shape == (4, SWARM.n_inputs)
+    np.testing.assert_allclose(x[:, :3], [[0.2, 0.6, 0.3]] * 4)
+    np.testing.assert_allclose(
+        x[:, 3:], [[1, 0, r / 2], [0, 1, r / 2], [-1, 0, r / 2], [0, 0, 1]], atol=1e-15
+    )
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    st.floats(-10, 10), st.floats(-10, 10), st.floats(-math.pi, math.pi),
+    st.floats(0.01, 20), st.floats(-math.pi, math.pi), st.floats(-math.pi, math.pi),
+)  # fmt: skip
+def test_egocentric_goal_is_invariant_to_where_the_map_puts_the_robot(
+    x: float, y: float, heading: float, d: float, bearing: float, turn: float
+) -> None:
+    goal = (x + d * math.cos(heading + bearing), y + d * math.sin(heading + bearing))
+    moved = (  # the same situation rotated by ``turn`` about the origin
+        (
+            x * math.cos(turn) - y * math.sin(turn),
+            x * math.sin(turn) + y * math.cos(turn),
+            heading + turn,
+        ),
+        (
+            goal[0] * math.cos(turn) - goal[1] * math.sin(turn),
+            goal[0] * math.sin(turn) + goal[1] * math.cos(turn),
+        ),
+    )
+    a = egocentric_goal([(x, y, heading)], [goal], 1.0)[0]
+    b = egocentric_goal([moved[0]], [moved[1]], 1.0)[0]
+    np.testing.assert_allclose(a, b, atol=1e-9)
+    np.testing.assert_allclose(a[:2], [math.cos(bearing), math.sin(bearing)], atol=1e-9)
+    assert a[2] == pytest.approx(min(1.0, 1.0 / d))
+
+
+def test_unknown_encoding_is_refused() -> None:
+    with pytest.raises(ConfigError, match=r"input_encoding.*egocentric"):
+        with_encoding(SWARM, "polar", "run/best_genome.json")
 
 
 def test_gradient_is_the_scaled_gradient_of_one_over_d_outside_the_radius() -> None:

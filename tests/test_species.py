@@ -87,13 +87,21 @@ def test_speciation_by_representative_and_threshold() -> None:
     assert labels.tolist() == [0, 0, 0, 0]
 
 
-def test_joins_first_species_within_threshold_not_the_closest() -> None:
+def test_joins_the_closest_species_within_threshold_or_the_first_by_id() -> None:
     g = genome({0: 1.0, 1: -0.5, 2: 3.0, 4: 0.1, 5: 7.0})
     far = genome({0: 3.0, 1: -0.5, 2: 3.0, 4: 0.1, 5: 7.0})  # W = 2 / 5: D = 0.16
-    labels, _, _ = speciate([g], {2: far, 5: g}, 1.0, SpeciationConfig(), next_id=6)
-    assert labels.tolist() == [2]
-    labels, _, _ = speciate([g], {2: far, 5: g}, 0.1, SpeciationConfig(), next_id=6)
+    nearest, first = SpeciationConfig(), SpeciationConfig(assignment="first")
+    assert nearest.assignment == "nearest"
+    labels, _, _ = speciate([g], {2: far, 5: g}, 1.0, nearest, next_id=6)
     assert labels.tolist() == [5]
+    labels, _, _ = speciate([g], {2: far, 5: g}, 1.0, first, next_id=6)
+    assert labels.tolist() == [2]
+    for cfg in (nearest, first):  # out of reach of the first: both pick the one in reach
+        labels, _, _ = speciate([g], {2: far, 5: g}, 0.1, cfg, next_id=6)
+        assert labels.tolist() == [5]
+    # equally near: the lower id
+    labels, _, _ = speciate([g], {3: g, 1: g}, 1.0, nearest, next_id=6)
+    assert labels.tolist() == [1]
 
 
 def test_distance_equal_to_threshold_founds_a_new_species() -> None:
@@ -134,17 +142,22 @@ def test_speciation_of_an_evolved_population_is_consistent() -> None:
     for _ in range(3):
         pop = [mutate(g, MutationConfig(node_rate=0.2, edge_rate=0.1), tracker, rng) for g in pop]
         tracker.new_generation()
-    labels, reps, _ = speciate(pop, {}, 1.5, SpeciationConfig(), next_id=0)
-    assert set(labels.tolist()) == set(reps)
-    founders: dict[int, Genome] = {}
-    for g, label in zip(pop, labels.tolist(), strict=True):
-        # every species founded before this genome's own was too far away
-        assert all(distance(g, f) >= 1.5 for sid, f in founders.items() if sid < label)
-        if label in founders:
-            assert distance(g, founders[label]) < 1.5
-        else:
-            founders[label] = g
-    assert len(founders) > 1
+    for assignment in ("first", "nearest"):
+        cfg = SpeciationConfig(assignment=assignment)
+        labels, reps, _ = speciate(pop, {}, 1.5, cfg, next_id=0)
+        assert set(labels.tolist()) == set(reps)
+        founders: dict[int, Genome] = {}
+        for g, label in zip(pop, labels.tolist(), strict=True):
+            gaps = {sid: distance(g, f) for sid, f in founders.items()}
+            if label not in founders:  # founders so far were all out of reach
+                assert all(gap >= 1.5 for gap in gaps.values())
+                founders[label] = g
+            elif assignment == "first":  # every earlier species was out of reach
+                assert gaps[label] < 1.5
+                assert all(gap >= 1.5 for sid, gap in gaps.items() if sid < label)
+            else:  # none is nearer
+                assert gaps[label] < 1.5 and gaps[label] == min(gaps.values())
+        assert len(founders) > 1
 
 
 @pytest.mark.parametrize(
@@ -181,7 +194,7 @@ def test_steering_reaches_target_on_real_population() -> None:
 @pytest.mark.parametrize(
     "kw",
     [{"target_species": 0}, {"threshold": 0.2, "threshold_min": 0.3}, {"c1": -1.0},
-     {"threshold_step": float("nan")}],
+     {"threshold_step": float("nan")}, {"assignment": "closest"}],
 )
 def test_config_refuses_bad_values(kw: dict[str, float]) -> None:
     with pytest.raises(ConfigError):

@@ -11,7 +11,7 @@ import pytest
 
 from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.evaluators import InProcessEvaluator, PoolEvaluator
-from mentor_core.genome_io import load_genome
+from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.trainer import TrainerConfig, load_population, make_problem, train
 
 TINY = {
@@ -53,8 +53,11 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
     assert [int(r["evaluations"]) for r in rows] == [8, 16, 24, 32]
     members = load_population(dual_run / "population.json")
     assert len(members) == 8
-    genome = load_genome(dual_run / "best_genome.json")
+    genome, meta = load_genome_and_metadata(dual_run / "best_genome.json")
     assert genome.n_inputs == 6 and genome.n_outputs == 2
+    # the planner node and mentor-eval feed the network as in training
+    assert meta["input_encoding"] == "egocentric" == make_problem(tiny()).profile.input_encoding
+    assert make_problem(tiny(input_encoding="paper")).profile.input_encoding == "paper"
     pareto = json.loads((dual_run / "pareto.json").read_text())
     assert pareto["front"] and len(pareto["points"]) == 8
 
@@ -110,6 +113,7 @@ def test_pool_backend_is_bit_identical_to_in_process() -> None:
         ({"generations": 0}, "generations"),
         ({"stage2_seed_fraction": 0.0}, "stage2_seed_fraction"),
         ({"bogus": 1}, "bogus"),
+        ({"input_encoding": "polar"}, "input_encoding"),
     ],
 )
 def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:

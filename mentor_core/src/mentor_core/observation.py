@@ -1,7 +1,10 @@
 """The planner's input and output: the ONE place that turns a robot's state into network inputs
 and network outputs into actions. The trainer, the planner node and the tests all call these.
 
-Network inputs (paper, section III-B; ``k`` = number of range sensors)::
+Network inputs, ``k + 3`` of them (``k`` = number of range sensors), in one of the two
+encodings a robot profile names (``RobotProfile.input_encoding``):
+
+``"paper"`` (paper, section III-B)::
 
     [U_1 .. U_k, dX, dY, theta]
 
@@ -10,6 +13,23 @@ Network inputs (paper, section III-B; ``k`` = number of range sensors)::
 * ``(dX, dY)``: the map-frame gradient of the goal signal ``S = 1 / d`` (``d`` the distance to
   the goal), bounded near the goal and scaled to magnitude <= 1 (see :func:`signal_gradient`).
 * ``theta``: global heading, rad, wrapped to ``(-pi, pi]``.
+
+``"egocentric"`` (the shipped profiles)::
+
+    [U_1 .. U_k, cos beta, sin beta, S]
+
+* ``U_i`` as above;
+* ``(cos beta, sin beta)``: the direction of the same gradient in the body frame, unit length
+  (``beta`` the goal's bearing from the robot's heading; ``(0, 0)`` on the goal itself);
+* ``S = R / max(d, R)``: the goal signal ``1 / d`` bounded and scaled by the goal radius ``R``,
+  1 inside the goal radius.
+
+Why a second encoding: in the paper's the direction to the goal is scaled by ``(R / d)^2``
+(0.01 at 10 m for the UGV) and steering towards it needs ``atan2(dY, dX) - theta`` wrapped
+to ``(-pi, pi]``, a discontinuous function a small network hardly represents. The
+egocentric inputs carry the same information (a planner that also needs the global heading
+cannot use it: the arenas are random), and steering towards the goal is a monotone function of
+``sin beta``. docs/algorithm.md gives the measured effect.
 
 Network outputs ``(o_1, o_2)`` (clipped to ``[0, 1]``) map linearly onto the actions
 ``dtheta in [-heading_change_max, heading_change_max]`` (rad) and ``ds in [step_min,
@@ -91,10 +111,32 @@ def network_inputs(
         raise ValueError("pose or goal is not finite")
     out = np.empty((u.shape[0], profile.n_inputs), dtype=np.float64)
     out[:, : profile.n_sensors] = u
-    out[:, profile.n_sensors : profile.n_sensors + 2] = signal_gradient(
-        p, g, profile.goal_radius
-    )
-    out[:, -1] = wrap_angle(p[:, 2])
+    k = profile.n_sensors
+    if profile.input_encoding == "egocentric":
+        out[:, k : k + 3] = egocentric_goal(p, g, profile.goal_radius)
+    else:
+        out[:, k : k + 2] = signal_gradient(p, g, profile.goal_radius)
+        out[:, -1] = wrap_angle(p[:, 2])
+    return out
+
+
+def egocentric_goal(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> FloatArray:
+    """Goal inputs (n, 3) of the egocentric encoding: ``[cos beta, sin beta, S]``.
+
+    With ``v = g - p`` and ``d = |v|``, the unit direction ``v / d`` rotated into the body frame
+    (by ``-theta``) is ``(cos beta, sin beta)``, ``(0, 0)`` at ``d = 0``;
+    ``S = R / max(d, R)`` (``R`` the goal radius).
+    """
+    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
+    g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
+    v = g[:, :2] - p[:, :2]
+    d = np.hypot(v[:, 0], v[:, 1])
+    unit = np.divide(v, d[:, None], out=np.zeros_like(v), where=d[:, None] > 0.0)
+    c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
+    out = np.empty((p.shape[0], 3), dtype=np.float64)
+    out[:, 0] = c * unit[:, 0] + s * unit[:, 1]
+    out[:, 1] = -s * unit[:, 0] + c * unit[:, 1]
+    out[:, 2] = goal_radius / np.maximum(d, goal_radius)
     return out
 
 

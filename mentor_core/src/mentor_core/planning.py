@@ -29,8 +29,10 @@ previous episode's goal, whatever order the goal topic and the observations arri
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,14 +40,25 @@ from numpy.typing import ArrayLike, NDArray
 from mentor_core import observation
 from mentor_core.errors import ConfigError
 from mentor_core.genome import Genome
-from mentor_core.genome_io import load_genome
+from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.network import FeedForwardNetwork
-from mentor_core.robots import RobotProfile, get_profile
+from mentor_core.robots import RobotProfile, get_profile, with_encoding
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
 _NS_PER_S = 1_000_000_000
 _END_EVENTS = frozenset({"reached", "collided", "timed_out"})
+
+
+def planner_profile(
+    profile: RobotProfile, metadata: Mapping[str, Any], source: str | Path = ""
+) -> RobotProfile:
+    """``profile`` with the input encoding a genome was trained with (its metadata's
+    ``input_encoding``; ``"paper"`` for a genome saved before the key existed).
+
+    ConfigError naming ``source`` for an unknown encoding.
+    """
+    return with_encoding(profile, metadata.get("input_encoding", "paper"), source)
 
 
 class GenomePlanner:
@@ -72,8 +85,9 @@ class GenomePlanner:
         FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
         that does not fit it); both one line naming the file or key and the fault.
         """
-        profile = get_profile(profile_name)
-        return cls(load_genome(genome_path), profile, source=str(genome_path))
+        genome, metadata = load_genome_and_metadata(genome_path)
+        profile = planner_profile(get_profile(profile_name), metadata, genome_path)
+        return cls(genome, profile, source=str(genome_path))
 
     def decide(
         self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike

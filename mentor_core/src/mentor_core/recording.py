@@ -6,6 +6,10 @@ plus one metadata entry per episode with the exact setups (world, starts, goals,
 budgets, scenario indices; JSON floats round-trip exactly). :meth:`EpisodeRecorder.save`
 writes them with :func:`mentor_core.bagio.write_episode_bag`.
 
+Without ROS: :func:`record_planners` runs planners in the reference simulator, one episode per
+planner and scenario, and records each episode as the simulator node would (``mentor-eval
+--record``).
+
 Reading back: :func:`recorded_episodes` splits an :class:`~mentor_core.bagio.EpisodeLog`
 into one :class:`RecordedRun` per robot and episode (the messages stamped from its
 ``started`` event up to its end event, both included) and gives the setups to re-simulate it
@@ -45,9 +49,10 @@ from mentor_core.bagio import (
     write_episode_bag,
 )
 from mentor_core.errors import FileFormatError
+from mentor_core.observation import twist_from_action
 from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.simulator import RobotSetup
-from mentor_core.world import World
+from mentor_core.simulator import Decide, RobotSetup, RobotTrace, run_reference_episode
+from mentor_core.world import Scenario, World
 
 RECORDER_FORMAT = "mentor-sim-recording"
 RECORDER_VERSION = 1
@@ -171,6 +176,69 @@ class EpisodeRecorder:
             world=self.world,
             overwrite=overwrite,
         )
+
+
+def record_trace(
+    recorder: EpisodeRecorder, episode: int, start_ns: int, setup: RobotSetup, trace: RobotTrace
+) -> int:
+    """Add a finished single-robot reference episode to ``recorder``, stamped as the simulator
+    node stamps it; returns the stamp of its last message (ns).
+
+    At ``start_ns``: the goal and the ``started`` event; at each decision ``i`` (stamp
+    ``start_ns + i dt``): scan, odometry (with the previous decision's twist) and the command
+    answering them; at the end: the end event and the final odometry at rest.
+    """
+    dt = recorder.control_period
+    dt_ns = round(dt * 1e9)
+    ns = setup.name
+    recorder.begin_episode(episode, start_ns, [setup])
+    recorder.goal(ns, start_ns, setup.goal)
+    recorder.event(ns, start_ns, "started", setup.scenario)
+    twist = (0.0, 0.0)
+    for i in range(trace.steps):
+        stamp = start_ns + i * dt_ns
+        recorder.scan(ns, stamp, trace.ranges[i])
+        recorder.odometry(ns, stamp, trace.poses[i], twist)
+        dtheta, ds = (float(v) for v in trace.decisions[i])
+        angular_z, linear_x = twist_from_action(dtheta, ds, dt)
+        recorder.command(ns, stamp, float(linear_x), float(angular_z))
+        twist = (float(linear_x), float(angular_z))
+    end = start_ns + trace.steps * dt_ns
+    if trace.outcome != "active":
+        recorder.event(ns, end, trace.outcome, setup.scenario)
+    recorder.odometry(ns, end, trace.poses[trace.steps], (0.0, 0.0))
+    return end
+
+
+def record_planners(
+    world: World,
+    profile: RobotProfile,
+    planners: Mapping[str, Decide],
+    scenarios: Sequence[Scenario],
+    time_limit: float | None = None,
+) -> tuple[EpisodeRecorder, dict[str, list[RobotTrace]]]:
+    """Run each planner alone on each scenario in the reference simulator and record it.
+
+    ``planners`` maps a robot namespace to its decision function; episodes run planner by
+    planner, scenario by scenario, one control period apart. ``time_limit`` (s) replaces the
+    profile's time budget when given. Returns the recorder (save it with
+    :meth:`EpisodeRecorder.save`) and each planner's traces in scenario order.
+    """
+    recorder = EpisodeRecorder(world, profile.control_period, list(planners))
+    dt_ns = round(profile.control_period * 1e9)
+    traces: dict[str, list[RobotTrace]] = {ns: [] for ns in planners}
+    stamp = 0
+    for ns, decide in planners.items():
+        for k, scenario in enumerate(scenarios):
+            setup = RobotSetup(ns, profile, scenario.start, scenario.goal, k, time_limit)
+            ran = run_reference_episode(world, [setup], {ns: decide})
+            if ns not in ran:
+                raise ValueError(f"scenario {k}: the start pose overlaps an obstacle or a wall")
+            trace = ran[ns]
+            end = record_trace(recorder, recorder.n_episodes, stamp, setup, trace)
+            traces[ns].append(trace)
+            stamp = end + dt_ns
+    return recorder, traces
 
 
 def world_to_json(world: World) -> dict[str, Any]:

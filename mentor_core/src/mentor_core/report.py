@@ -46,7 +46,7 @@ from numpy.typing import ArrayLike
 from mentor_core.atomic import write_bytes_atomic, write_text_atomic
 from mentor_core.errors import FileFormatError
 from mentor_core.genome import Genome
-from mentor_core.genome_io import load_genome
+from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.trainer import HISTORY_FIELDS, GenerationRecord, RunPaths
 
 NICHE_BOUND = 1.0 / 3.0  # the paper: the largest niche stays around a third of the population
@@ -74,6 +74,7 @@ class RunData:
     pareto_front: list[int]  # indices into pareto_points
     pareto_stage: int
     best_genome: Genome
+    input_encoding: str = "paper"  # of the best genome (its metadata)
 
     @property
     def label(self) -> str:
@@ -239,7 +240,7 @@ def load_run(run_dir: str | Path) -> RunData:
     if any(not 0 <= i < len(points) for i in front):
         raise FileFormatError(paths.pareto, "front index out of range")
 
-    genome = load_genome(paths.best_genome)
+    genome, genome_meta = load_genome_and_metadata(paths.best_genome)
     return RunData(
         path=paths.root,
         robot=str(config["robot"]),
@@ -252,6 +253,7 @@ def load_run(run_dir: str | Path) -> RunData:
         pareto_front=front,
         pareto_stage=stage,
         best_genome=genome,
+        input_encoding=str(genome_meta.get("input_encoding", "paper")),
     )
 
 
@@ -490,11 +492,13 @@ def complexity_boxplots(
     return fig
 
 
-def node_labels(genome: Genome) -> dict[int, str]:
-    """Readable node names: range sensors r0.., dX, dY, heading, bias, dtheta, ds, h<id>."""
+def node_labels(genome: Genome, encoding: str = "paper") -> dict[int, str]:
+    """Readable node names: range sensors r0.., the goal inputs of the encoding (dX, dY,
+    heading; or cos β, sin β, S), bias, dtheta, ds, h<id>."""
     labels: dict[int, str] = {}
     n_in = genome.n_inputs
-    tail = ["dX", "dY", "θ"] if n_in >= 3 else []
+    goal = ["cos β", "sin β", "S"] if encoding == "egocentric" else ["dX", "dY", "θ"]
+    tail = goal if n_in >= 3 else []
     for i in range(n_in):
         j = i - (n_in - len(tail))
         labels[i] = tail[j] if j >= 0 else f"r{i}"
@@ -559,7 +563,9 @@ def _node_positions(genome: Genome) -> dict[int, tuple[float, float]]:
     return pos
 
 
-def topology(genome: Genome, title: str = "", table: bool = True) -> Figure:
+def topology(
+    genome: Genome, title: str = "", table: bool = True, encoding: str = "paper"
+) -> Figure:
     """The network of a genome with (if ``table``) its connection genes in a table beneath.
 
     Inputs (and bias) on the left, outputs on the right, hidden nodes in columns by their
@@ -567,7 +573,7 @@ def topology(genome: Genome, title: str = "", table: bool = True) -> Figure:
     negative; disabled genes dotted grey.
     """
     pos = _node_positions(genome)
-    labels = node_labels(genome)
+    labels = node_labels(genome, encoding)
     kinds = {n.id: n.kind for n in genome.nodes}
     n_rows = len(genome.connections)
     table = table and 0 < n_rows <= TABLE_MAX_GENES
@@ -763,9 +769,9 @@ def run_numbers(run: RunData) -> RunNumbers:
     )
 
 
-def genome_tables(genome: Genome) -> list[str]:
+def genome_tables(genome: Genome, encoding: str = "paper") -> list[str]:
     """Markdown tables of a genome's nodes and connection genes."""
-    labels = node_labels(genome)
+    labels = node_labels(genome, encoding)
     lines = _md_table(
         ["node", "name", "kind", "activation"],
         [[str(n.id), labels[n.id], n.kind, n.activation] for n in genome.nodes],
@@ -916,7 +922,7 @@ def write_report(
             fig = complexity_boxplots(cx, fx, title=f"{r.label}: final population")
             md += [f"![performance vs complexity]({save(fig, f'{tag}_complexity.png')})", ""]
             g = r.best_genome
-            fig = topology(g, title=f"{r.label}: best genome")
+            fig = topology(g, title=f"{r.label}: best genome", encoding=r.input_encoding)
             md += [f"![topology]({save(fig, f'{tag}_topology.png')})", ""]
             md += [
                 f"Best genome: {g.n_inputs} inputs + bias, {g.n_outputs} outputs, "
@@ -925,7 +931,7 @@ def write_report(
                 "",
             ]
             md += ["<details><summary>genome tables</summary>", ""]
-            md += genome_tables(g)
+            md += genome_tables(g, r.input_encoding)
             md += ["</details>", ""]
 
     if evals:

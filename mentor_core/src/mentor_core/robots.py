@@ -17,6 +17,7 @@ above, as a LaserScan's angles increase:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -62,6 +63,11 @@ class RobotProfile:
         time_budget_slack, time_budget_cap: see :meth:`time_budget`.
         train_arena, test_arena: side of the square training / unseen-test arena, m.
         train_scenarios: number of training scenarios (start/goal pairs).
+        input_encoding: how the goal enters the network (``mentor_core.observation``):
+            ``"paper"`` (map-frame signal gradient and global heading, as the paper) or
+            ``"egocentric"`` (goal direction in the body frame and goal signal). Not part of
+            the robot file: it belongs to a planner, and comes from the training config and
+            the genome's metadata (:func:`with_encoding`).
     """
 
     name: str
@@ -80,6 +86,7 @@ class RobotProfile:
     train_arena: float
     train_scenarios: int
     test_arena: float
+    input_encoding: str = "paper"
 
     @property
     def n_sensors(self) -> int:
@@ -117,6 +124,20 @@ class RobotProfile:
         """
         d = float(np.hypot(*(np.asarray(goal_xy, float)[:2] - np.asarray(start_xy, float)[:2])))
         return min(self.time_budget_cap, self.time_budget_slack * d / self.rated_speed)
+
+
+def with_encoding(
+    profile: RobotProfile, encoding: object, source: str | Path = ""
+) -> RobotProfile:
+    """``profile`` with another input encoding; ConfigError naming ``source`` for an unknown
+    one."""
+    if encoding not in INPUT_ENCODINGS:
+        raise ConfigError(
+            f"must be one of {', '.join(INPUT_ENCODINGS)}, got {encoding!r}",
+            key="input_encoding",
+            path=source or None,
+        )
+    return dataclasses.replace(profile, input_encoding=str(encoding))
 
 
 def body_corners(profile: RobotProfile, poses: ArrayLike) -> NDArray[np.float64]:
@@ -195,6 +216,7 @@ _SCALARS = (
     "test_arena",
 )
 _PROFILE_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
+INPUT_ENCODINGS = ("paper", "egocentric")
 _MOUNT_KEYS = {"x", "y", "angle_deg"}
 
 

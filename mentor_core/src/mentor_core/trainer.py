@@ -36,7 +36,7 @@ from mentor_core.genome import Genome
 from mentor_core.genome_io import genome_from_dict, genome_to_dict, save_genome
 from mentor_core.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
 from mentor_core.ranking import non_dominated_ranks
-from mentor_core.robots import RobotProfile, get_profile
+from mentor_core.robots import INPUT_ENCODINGS, RobotProfile, get_profile, with_encoding
 from mentor_core.scenarios import training_scenarios
 
 Framework = Literal["single", "dual"]
@@ -61,6 +61,9 @@ class TrainerConfig:
         stage2_seed_fraction: share of stage 1's final population (best by F) seeding stage 2.
         n_scenarios: training scenarios (default: the profile's ``train_scenarios``).
         scenario_seed: seed of the training world and its start/goal pairs.
+        input_encoding: the network's goal inputs, ``"egocentric"`` (default) or ``"paper"``
+            (``mentor_core.observation``); written into the best genome's metadata so that
+            the planner node and mentor-eval feed the network the same way.
         evolution: the MENTOR evolution parameters (population, rates, speciation).
     """
 
@@ -71,6 +74,7 @@ class TrainerConfig:
     stage2_seed_fraction: float = 0.5
     n_scenarios: int | None = None
     scenario_seed: int = 0
+    input_encoding: str = "egocentric"
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
 
     def __post_init__(self) -> None:
@@ -86,6 +90,10 @@ class TrainerConfig:
             raise ConfigError("must be in (0, 1]", key="stage2_seed_fraction")
         if self.n_scenarios is not None and self.n_scenarios < 1:
             raise ConfigError("must be at least 1", key="n_scenarios")
+        if self.input_encoding not in INPUT_ENCODINGS:
+            raise ConfigError(
+                f"must be one of {', '.join(INPUT_ENCODINGS)}", key="input_encoding"
+            )
 
     def stages(self) -> list[tuple[Mode, int]]:
         """(mode, generations) per stage: "multi" ranks (F, G), "single" ranks F."""
@@ -253,8 +261,9 @@ def _record_from_row(row: dict[str, Any]) -> GenerationRecord:
 
 
 def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> NavigationProblem:
-    """The training problem of a config: its robot's scenarios from ``scenario_seed``."""
-    prof = profile or get_profile(config.robot)
+    """The training problem of a config: its robot's scenarios from ``scenario_seed``, the
+    network fed with the config's input encoding (``profile`` defaults to the shipped one)."""
+    prof = with_encoding(profile or get_profile(config.robot), config.input_encoding)
     scenarios = training_scenarios(prof, config.scenario_seed, config.n_scenarios)
     return NavigationProblem(prof, scenarios)
 
@@ -438,6 +447,7 @@ def train(
             paths.best_genome,
             metadata={
                 "robot": config.robot,
+                "input_encoding": config.input_encoding,
                 "framework": config.framework,
                 "seed": seed,
                 "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),

@@ -3,9 +3,12 @@
     mentor-eval runs/ugv-dual/best_genome.json --bag bags/unseen/ugv --out eval.json
     mentor-eval a.json b.json --robot swarm --world my_world.yaml
     mentor-eval a.json --robot ugv --seed 7 --n 10          # a freshly sampled world
+    mentor-eval a.json --bag bags/unseen/swarm --record out/episodes   # + an episode bag
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
 table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
+``--record`` also writes the episodes as a rosbag2 episode bag (scan, odometry, cmd_vel, goal
+and events per robot), for ``ros2 bag play`` or Foxglove.
 """
 
 from __future__ import annotations
@@ -22,7 +25,9 @@ from mentor_core.assessment import TEST_TIME_LIMIT, Assessment, assess
 from mentor_core.atomic import write_json_atomic
 from mentor_core.bagio import read_scenario_bag
 from mentor_core.errors import FileFormatError, MentorError
-from mentor_core.genome_io import load_genome
+from mentor_core.genome_io import load_genome_and_metadata
+from mentor_core.planning import GenomePlanner, planner_profile
+from mentor_core.recording import record_planners
 from mentor_core.robots import RobotProfile, get_profile
 from mentor_core.scenarios import sample_scenarios, sample_world
 from mentor_core.world import Scenario, World, load_world
@@ -110,6 +115,43 @@ def eval_document(
     }
 
 
+def record(
+    path: Path,
+    profile: RobotProfile,
+    world: World,
+    scenarios: list[Scenario],
+    time_limit: float,
+    runs: list[tuple[str, str, Assessment]],
+) -> None:
+    """Write the episodes of every genome as an episode bag (``--record``).
+
+    The bag holds what the ROS simulator would publish: each genome's planner runs in the
+    reference (pymunk) simulator, ``robot_<i>`` for genome ``i``. An outcome that differs from
+    the batched evaluation (float32 scans can tip a borderline episode) is reported on stderr.
+    """
+    if path.exists():
+        raise FileFormatError(path, "already exists; the recording is not overwritten")
+    planners = {
+        f"robot_{i}": GenomePlanner.load(gpath, profile.name).decide
+        for i, (_, gpath, _) in enumerate(runs)
+    }
+    recorder, traces = record_planners(world, profile, planners, scenarios, time_limit)
+    labels = {f"robot_{i}": label for i, (label, _, _) in enumerate(runs)}
+    recorder.save(path, profile, {"genomes": labels, "time_limit": time_limit})
+    for i, (label, _, assessment) in enumerate(runs):
+        for result, trace in zip(assessment.results, traces[f"robot_{i}"], strict=True):
+            batched = (
+                "reached" if result.reached else "collided" if result.collided else "timed_out"
+            )
+            if batched != trace.outcome:
+                print(
+                    f"mentor-eval: {label} scenario {result.scenario}: {trace.outcome} in the "
+                    f"recording, {batched} in the table",
+                    file=sys.stderr,
+                )
+    print(f"mentor-eval: recorded {recorder.n_episodes} episodes in {path}", file=sys.stderr)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of mentor-eval."""
     p = argparse.ArgumentParser(prog="mentor-eval", description=__doc__.split("\n")[0])
@@ -123,6 +165,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=float, default=TEST_TIME_LIMIT, help="s (50)")
     p.add_argument("--out", type=Path, help="write the results as JSON here")
     p.add_argument("--label", action="append", help="a label per genome (default: file path)")
+    p.add_argument(
+        "--record",
+        type=Path,
+        help="also run the episodes in the reference (pymunk) simulator and write them as an "
+        "episode bag here (namespaces robot_0, robot_1, ... in genome order)",
+    )
     return p
 
 
@@ -137,13 +185,16 @@ def main(argv: list[str] | None = None) -> int:
         profile, world, scenarios, source = load_scenarios(args)
         runs: list[tuple[str, str, Assessment]] = []
         for label, path in zip(labels, args.genomes, strict=True):
-            genome = load_genome(path)
+            genome, metadata = load_genome_and_metadata(path)
+            planner = planner_profile(profile, metadata, path)
             try:
-                assessment = assess(genome, profile, scenarios, args.time_limit)
+                assessment = assess(genome, planner, scenarios, args.time_limit)
             except ValueError as err:
                 raise FileFormatError(path, str(err)) from None
             print(_table(label, assessment))
             runs.append((label, str(path), assessment))
+        if args.record is not None:
+            record(args.record, profile, world, scenarios, args.time_limit, runs)
         if args.out is not None:
             doc = eval_document(profile, world, scenarios, source, args.time_limit, runs)
             write_json_atomic(args.out, doc)
