@@ -147,6 +147,18 @@ def test_broad_phase_is_conservative() -> None:
     every = first_collisions(flat, offsets, UGV, world)
     assert (every[~may] == -1).all()
     assert 0.05 < (~may).mean() < 0.95  # it does prune, and it does not pass everything
+    # both backends agree exactly, also on discs that (up to rounding) touch a box or a wall
+    np.testing.assert_array_equal(
+        may, sweep_may_collide(poses, dth, ds, UGV, world, backend="numpy")
+    )
+    box = world.obstacles[0]
+    reach = UGV.half_diagonal + 1e-9
+    edge = np.array([[box[2] + reach, 0.5 * (box[1] + box[3]), 0.0],
+                     [reach, 5.0, 0.0], [10.0 - reach, 5.0, 0.0]])  # fmt: skip
+    np.testing.assert_array_equal(
+        sweep_may_collide(edge, np.zeros(3), np.zeros(3), UGV, world, backend="numba"),
+        sweep_may_collide(edge, np.zeros(3), np.zeros(3), UGV, world, backend="numpy"),
+    )
 
 
 def test_straight_into_a_wall() -> None:

@@ -35,6 +35,10 @@ def test_a_genome_plans_with_the_encoding_its_metadata_names() -> None:
     )
     with pytest.raises(ConfigError, match=r"g\.json: input_encoding"):
         planner_profile(SWARM, {"input_encoding": 3}, "g.json")
+    assert planner_profile(SWARM, {}).heading_change_max == SWARM.heading_change_max
+    assert planner_profile(SWARM, {"heading_change_max": 0.5}).heading_change_max == 0.5
+    with pytest.raises(ConfigError, match=r"g\.json: heading_change_max"):
+        planner_profile(SWARM, {"heading_change_max": "wide"}, "g.json")
 
 
 def test_recorded_episodes_are_the_reference_episodes(tmp_path: Path) -> None:

@@ -20,7 +20,7 @@ from mentor_core.observation import (
     signal_gradient,
     twist_from_action,
 )
-from mentor_core.robots import get_profile, with_encoding
+from mentor_core.robots import get_profile, with_planner
 
 SWARM = get_profile("swarm")
 UGV = get_profile("ugv")
@@ -55,7 +55,7 @@ def test_network_inputs_layout_and_values() -> None:
 
 
 def test_egocentric_inputs_give_the_goal_bearing_in_the_body_frame_and_the_signal() -> None:
-    ego = with_encoding(SWARM, "egocentric")
+    ego = with_planner(SWARM, input_encoding="egocentric")
     r = SWARM.goal_radius
     ranges = [[0.2, math.inf, 0.3]] * 4
     # heading +y; goal 2 m ahead, 2 m to the left, 2 m behind, and on the robot
@@ -96,9 +96,16 @@ def test_egocentric_goal_is_invariant_to_where_the_map_puts_the_robot(
     assert a[2] == pytest.approx(min(1.0, 1.0 / d))
 
 
-def test_unknown_encoding_is_refused() -> None:
-    with pytest.raises(ConfigError, match=r"input_encoding.*egocentric"):
-        with_encoding(SWARM, "polar", "run/best_genome.json")
+def test_planner_settings_are_checked_and_narrow_the_heading_action() -> None:
+    with pytest.raises(ConfigError, match=r"best_genome\.json: input_encoding.*egocentric"):
+        with_planner(SWARM, input_encoding="polar", source="run/best_genome.json")
+    for bad in (0.0, -1.0, 4.0, True, "1"):
+        with pytest.raises(ConfigError, match="heading_change_max"):
+            with_planner(SWARM, heading_change_max=bad)
+    narrow = with_planner(SWARM, heading_change_max=math.pi / 4)
+    assert with_planner(SWARM) == SWARM and narrow.input_encoding == SWARM.input_encoding
+    dtheta, _ = actions_from_outputs([[0.0, 0.5], [1.0, 0.5], [0.5, 0.5]], narrow)
+    np.testing.assert_allclose(dtheta, [-math.pi / 4, math.pi / 4, 0.0])
 
 
 def test_gradient_is_the_scaled_gradient_of_one_over_d_outside_the_radius() -> None:

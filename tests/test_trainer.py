@@ -58,6 +58,9 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
     # the planner node and mentor-eval feed the network as in training
     assert meta["input_encoding"] == "egocentric" == make_problem(tiny()).profile.input_encoding
     assert make_problem(tiny(input_encoding="paper")).profile.input_encoding == "paper"
+    assert meta["heading_change_max"] == make_problem(tiny()).profile.heading_change_max
+    narrow = make_problem(tiny(heading_change_max_deg=45)).profile
+    assert narrow.heading_change_max == pytest.approx(np.pi / 4)
     pareto = json.loads((dual_run / "pareto.json").read_text())
     assert pareto["front"] and len(pareto["points"]) == 8
 
@@ -114,6 +117,7 @@ def test_pool_backend_is_bit_identical_to_in_process() -> None:
         ({"stage2_seed_fraction": 0.0}, "stage2_seed_fraction"),
         ({"bogus": 1}, "bogus"),
         ({"input_encoding": "polar"}, "input_encoding"),
+        ({"heading_change_max_deg": 270}, "heading_change_max_deg"),
     ],
 )
 def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:

@@ -119,25 +119,50 @@ def sweep_bounds(
 
 
 def sweep_may_collide(
-    poses: ArrayLike, dtheta: ArrayLike, ds: ArrayLike, profile: RobotProfile, world: World
+    poses: ArrayLike, dtheta: ArrayLike, ds: ArrayLike, profile: RobotProfile, world: World,
+    *, backend: Backend = "auto",
 ) -> BoolArray:
     """Broad phase ``(n,)``: False guarantees that no sample of the decision collides.
 
     The swept body stays in the disc of radius ``|ds| / 2 + half_diagonal`` around the arc's
     half-way point (:func:`sweep_bounds`); a decision whose disc misses every box and stays
-    inside the walls (with ``BROAD_PHASE_SLACK``) needs no narrow phase.
+    inside the walls (with ``BROAD_PHASE_SLACK``) needs no narrow phase. The numba and numpy
+    backends do the same arithmetic (no transcendental functions), so they agree exactly.
     """
     centre, radius = sweep_bounds(poses, dtheta, ds)
     reach = radius + (profile.half_diagonal + BROAD_PHASE_SLACK)
-    x, y = centre[:, 0], centre[:, 1]
+    x = np.ascontiguousarray(centre[:, 0])
+    y = np.ascontiguousarray(centre[:, 1])
     size = float(world.size)
+    boxes = np.ascontiguousarray(world.obstacles, dtype=np.float64).reshape(-1, 4)
+    if _use_numba(backend) and _broad_phase_numba is not None:
+        out = np.empty(x.shape[0], dtype=np.bool_)
+        _broad_phase_numba(x, y, np.ascontiguousarray(reach), boxes, size, out)
+        return out
     may = (x - reach < 0.0) | (x + reach > size) | (y - reach < 0.0) | (y + reach > size)
-    boxes = np.asarray(world.obstacles, dtype=np.float64).reshape(-1, 4)
     if boxes.shape[0]:
         gx = np.maximum(np.maximum(boxes[:, 0] - x[:, None], x[:, None] - boxes[:, 2]), 0.0)
         gy = np.maximum(np.maximum(boxes[:, 1] - y[:, None], y[:, None] - boxes[:, 3]), 0.0)
         may |= (gx * gx + gy * gy <= (reach * reach)[:, None]).any(axis=1)
-    return may
+    return np.asarray(may, dtype=np.bool_)
+
+
+def _broad_phase_loop(
+    x: FloatArray, y: FloatArray, reach: FloatArray, boxes: FloatArray, size: float,
+    out: BoolArray,
+) -> None:
+    """Scalar-loop twin of the numpy broad phase (compiled by numba); stops at the first box."""
+    for i in range(x.shape[0]):
+        r = reach[i]
+        hit = x[i] - r < 0.0 or x[i] + r > size or y[i] - r < 0.0 or y[i] + r > size
+        r2 = r * r
+        for k in range(boxes.shape[0]):
+            if hit:
+                break
+            gx = max(max(boxes[k, 0] - x[i], x[i] - boxes[k, 2]), 0.0)
+            gy = max(max(boxes[k, 1] - y[i], y[i] - boxes[k, 3]), 0.0)
+            hit = gx * gx + gy * gy <= r2
+        out[i] = hit
 
 
 def _box_arrays(boxes: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -238,13 +263,16 @@ def _first_hit_loop(
 
 
 _first_hit_numba: Callable[..., None] | None
+_broad_phase_numba: Callable[..., None] | None
 try:
     from numba import njit
 
     # No fastmath: verdicts must round exactly like the numpy backend.
     _first_hit_numba = njit(cache=True)(_first_hit_loop)
+    _broad_phase_numba = njit(cache=True)(_broad_phase_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
     _first_hit_numba = None
+    _broad_phase_numba = None
 
 
 def first_collisions(
@@ -304,7 +332,7 @@ def swept_collision(
     dth = np.broadcast_to(np.asarray(dtheta, dtype=np.float64), p.shape[:1])
     dist = np.broadcast_to(np.asarray(ds, dtype=np.float64), p.shape[:1])
     out = np.full(p.shape[0], NO_COLLISION, dtype=np.int64)
-    near = np.flatnonzero(sweep_may_collide(p, dth, dist, profile, world))
+    near = np.flatnonzero(sweep_may_collide(p, dth, dist, profile, world, backend=backend))
     counts = sample_counts(
         dth[near], dist[near], profile,
         max_sample_step=max_sample_step, max_sample_angle=max_sample_angle,

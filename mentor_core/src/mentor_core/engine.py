@@ -160,7 +160,10 @@ class BatchEngine:
             radius + (self.profile.goal_radius + BROAD_PHASE_SLACK)
         )
         near = np.flatnonzero(
-            near_goal | sweep_may_collide(start, dth, dist, self.profile, self.world)
+            near_goal
+            | sweep_may_collide(
+                start, dth, dist, self.profile, self.world, backend=self.backend
+            )
         )
         if near.size:
             counts = sample_counts(

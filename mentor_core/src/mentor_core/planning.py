@@ -42,7 +42,7 @@ from mentor_core.errors import ConfigError
 from mentor_core.genome import Genome
 from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.network import FeedForwardNetwork
-from mentor_core.robots import RobotProfile, get_profile, with_encoding
+from mentor_core.robots import RobotProfile, get_profile, with_planner
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -53,12 +53,18 @@ _END_EVENTS = frozenset({"reached", "collided", "timed_out"})
 def planner_profile(
     profile: RobotProfile, metadata: Mapping[str, Any], source: str | Path = ""
 ) -> RobotProfile:
-    """``profile`` with the input encoding a genome was trained with (its metadata's
-    ``input_encoding``; ``"paper"`` for a genome saved before the key existed).
+    """``profile`` as the genome was trained to use it: its metadata's ``input_encoding``
+    (``"paper"`` for a genome saved before the key existed) and ``heading_change_max`` (rad;
+    the profile's when absent).
 
-    ConfigError naming ``source`` for an unknown encoding.
+    ConfigError naming ``source`` for a bad value.
     """
-    return with_encoding(profile, metadata.get("input_encoding", "paper"), source)
+    return with_planner(
+        profile,
+        input_encoding=metadata.get("input_encoding", "paper"),
+        heading_change_max=metadata.get("heading_change_max"),
+        source=source,
+    )
 
 
 class GenomePlanner:

@@ -67,7 +67,7 @@ class RobotProfile:
             ``"paper"`` (map-frame signal gradient and global heading, as the paper) or
             ``"egocentric"`` (goal direction in the body frame and goal signal). Not part of
             the robot file: it belongs to a planner, and comes from the training config and
-            the genome's metadata (:func:`with_encoding`).
+            the genome's metadata (:func:`with_planner`).
     """
 
     name: str
@@ -126,18 +126,44 @@ class RobotProfile:
         return min(self.time_budget_cap, self.time_budget_slack * d / self.rated_speed)
 
 
-def with_encoding(
-    profile: RobotProfile, encoding: object, source: str | Path = ""
+def with_planner(
+    profile: RobotProfile,
+    *,
+    input_encoding: object = None,
+    heading_change_max: object = None,
+    source: str | Path = "",
 ) -> RobotProfile:
-    """``profile`` with another input encoding; ConfigError naming ``source`` for an unknown
-    one."""
-    if encoding not in INPUT_ENCODINGS:
-        raise ConfigError(
-            f"must be one of {', '.join(INPUT_ENCODINGS)}, got {encoding!r}",
-            key="input_encoding",
-            path=source or None,
-        )
-    return dataclasses.replace(profile, input_encoding=str(encoding))
+    """``profile`` as a planner sees it: its input encoding and its heading-change limit (rad,
+    in ``(0, pi]``) replaced where given (None keeps the profile's).
+
+    Both belong to a planner, not to the robot: the trainer takes them from its config and
+    writes them into the genome's metadata (``mentor_core.planning.planner_profile``).
+    ConfigError naming ``source`` and the key for a bad value.
+    """
+    changes: dict[str, Any] = {}
+    where = source or None
+    if input_encoding is not None:
+        if input_encoding not in INPUT_ENCODINGS:
+            raise ConfigError(
+                f"must be one of {', '.join(INPUT_ENCODINGS)}, got {input_encoding!r}",
+                key="input_encoding",
+                path=where,
+            )
+        changes["input_encoding"] = str(input_encoding)
+    if heading_change_max is not None:
+        limit = heading_change_max
+        if (
+            isinstance(limit, bool)
+            or not isinstance(limit, int | float)
+            or not 0.0 < float(limit) <= math.pi + 1e-12
+        ):
+            raise ConfigError(
+                f"must be a number in (0, pi] rad, got {limit!r}",
+                key="heading_change_max",
+                path=where,
+            )
+        changes["heading_change_max"] = min(float(limit), math.pi)
+    return dataclasses.replace(profile, **changes)
 
 
 def body_corners(profile: RobotProfile, poses: ArrayLike) -> NDArray[np.float64]:

@@ -36,7 +36,7 @@ from mentor_core.genome import Genome
 from mentor_core.genome_io import genome_from_dict, genome_to_dict, save_genome
 from mentor_core.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
 from mentor_core.ranking import non_dominated_ranks
-from mentor_core.robots import INPUT_ENCODINGS, RobotProfile, get_profile, with_encoding
+from mentor_core.robots import INPUT_ENCODINGS, RobotProfile, get_profile, with_planner
 from mentor_core.scenarios import training_scenarios
 
 Framework = Literal["single", "dual"]
@@ -64,6 +64,8 @@ class TrainerConfig:
         input_encoding: the network's goal inputs, ``"egocentric"`` (default) or ``"paper"``
             (``mentor_core.observation``); written into the best genome's metadata so that
             the planner node and mentor-eval feed the network the same way.
+        heading_change_max_deg: limit of the heading-change action, degrees in (0, 180]
+            (None: the robot profile's, 180 as in the paper); also written into the metadata.
         evolution: the MENTOR evolution parameters (population, rates, speciation).
     """
 
@@ -75,6 +77,7 @@ class TrainerConfig:
     n_scenarios: int | None = None
     scenario_seed: int = 0
     input_encoding: str = "egocentric"
+    heading_change_max_deg: float | None = None
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
 
     def __post_init__(self) -> None:
@@ -90,6 +93,13 @@ class TrainerConfig:
             raise ConfigError("must be in (0, 1]", key="stage2_seed_fraction")
         if self.n_scenarios is not None and self.n_scenarios < 1:
             raise ConfigError("must be at least 1", key="n_scenarios")
+        limit = self.heading_change_max_deg
+        if limit is not None and (
+            isinstance(limit, bool)
+            or not isinstance(limit, int | float)
+            or not 0.0 < limit <= 180.0
+        ):
+            raise ConfigError("must be null or in (0, 180] degrees", key="heading_change_max_deg")
         if self.input_encoding not in INPUT_ENCODINGS:
             raise ConfigError(
                 f"must be one of {', '.join(INPUT_ENCODINGS)}", key="input_encoding"
@@ -263,7 +273,12 @@ def _record_from_row(row: dict[str, Any]) -> GenerationRecord:
 def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> NavigationProblem:
     """The training problem of a config: its robot's scenarios from ``scenario_seed``, the
     network fed with the config's input encoding (``profile`` defaults to the shipped one)."""
-    prof = with_encoding(profile or get_profile(config.robot), config.input_encoding)
+    limit = config.heading_change_max_deg
+    prof = with_planner(
+        profile or get_profile(config.robot),
+        input_encoding=config.input_encoding,
+        heading_change_max=None if limit is None else math.radians(limit),
+    )
     scenarios = training_scenarios(prof, config.scenario_seed, config.n_scenarios)
     return NavigationProblem(prof, scenarios)
 
@@ -448,6 +463,7 @@ def train(
             metadata={
                 "robot": config.robot,
                 "input_encoding": config.input_encoding,
+                "heading_change_max": problem.profile.heading_change_max,
                 "framework": config.framework,
                 "seed": seed,
                 "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),
