@@ -18,8 +18,12 @@ for fw in single dual; do
   resume=()
   [ -f "$run/checkpoint.json" ] && resume=(--resume)
   echo "== training the Swarm-Robot planner, $fw-stage (quick config)" >&2
-  "$BIN/mentor-train" --robot swarm --framework "$fw" --config quick --seed "$SEED" \
-    --out "$run" "${resume[@]}"
+  if ! "$BIN/mentor-train" --robot swarm --framework "$fw" --config quick --seed "$SEED" \
+    --out "$run" "${resume[@]}"; then
+    [ ${#resume[@]} -gt 0 ] && echo "demo: $run holds an earlier run that this config or" \
+      "version cannot continue; remove it, or give another OUT_DIR (scripts/demo.sh OUT_DIR)" >&2
+    exit 1
+  fi
 done
 echo "== evaluating both best genomes on the unseen environment bags/unseen/swarm" >&2
 "$BIN/mentor-eval" "$OUT/swarm-single/best_genome.json" "$OUT/swarm-dual/best_genome.json" \

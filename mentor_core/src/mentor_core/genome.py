@@ -15,6 +15,7 @@ disabled gene can be re-enabled by crossover, so it must never close one either.
 
 from __future__ import annotations
 
+import heapq
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Literal, get_args
@@ -227,17 +228,15 @@ def topological_order(node_ids: Iterable[int], edges: Iterable[tuple[int, int]])
     for a, b in edges:
         succ[a].append(b)
         indegree[b] += 1
-    ready = [i for i in ids if indegree[i] == 0]
+    ready = [i for i in ids if indegree[i] == 0]  # sorted: a valid heap
     order: list[int] = []
     while ready:
-        # pop the smallest id for a deterministic order
-        ready.sort(reverse=True)
-        node = ready.pop()
+        node = heapq.heappop(ready)  # the smallest id first, for a deterministic order
         order.append(node)
         for nxt in succ[node]:
             indegree[nxt] -= 1
             if indegree[nxt] == 0:
-                ready.append(nxt)
+                heapq.heappush(ready, nxt)
     if len(order) != len(ids):
         raise InvalidGenomeError("connections contain a cycle")
     return order

@@ -1,0 +1,89 @@
+"""One training setting changed at a time: what it does to training and unseen success.
+
+    export NUMBA_CACHE_DIR=.venv/numba-cache
+    .venv/bin/python benchmarks/ablation.py --robot swarm --seed 1 \\
+        --set input_encoding=paper --set heading_change_max_deg=180 \\
+        --set evolution.speciation.assignment=first [--step-max 1.0] [--out DIR]
+
+Trains one run with the shipped paper-scale config (``--framework``, default single) and the
+``--set KEY=VALUE`` overrides (dotted keys into the trainer config, YAML values), then
+evaluates its best genome on its own training scenarios (their time budgets) and on
+``bags/unseen/<robot>`` (mentor-eval's test: 50 s, goal radius). ``--step-max`` replaces the
+robot's largest step (m per decision), an action range outside the trainer config. Prints
+one JSON object.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from mentor_core.assessment import assess
+from mentor_core.bagio import read_scenario_bag
+from mentor_core.cli.train import resolve_config
+from mentor_core.evaluators import InProcessEvaluator
+from mentor_core.robots import get_profile
+from mentor_core.trainer import TrainerConfig, make_problem, train
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def apply(config: dict[str, Any], assignment: str) -> None:
+    """Set ``a.b.c=value`` (value parsed as YAML) in a nested config dict."""
+    key, _, text = assignment.partition("=")
+    *path, last = key.split(".")
+    node = config
+    for part in path:
+        node = node.setdefault(part, {})
+    node[last] = yaml.safe_load(text)
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--robot", choices=("ugv", "swarm"), required=True)
+    p.add_argument("--framework", choices=("single", "dual"), default="single")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--set", action="append", default=[], help="KEY=VALUE config override")
+    p.add_argument("--step-max", type=float, help="replace the robot's step_max (m)")
+    p.add_argument("--out", type=Path, help="run directory (default: a temporary one)")
+    args = p.parse_args()
+
+    data = resolve_config(args.robot, args.framework, "paper").to_dict()
+    for assignment in args.set:
+        apply(data, assignment)
+    config = TrainerConfig.from_dict(data, source="--set")
+    profile = get_profile(args.robot)
+    if args.step_max is not None:
+        profile = dataclasses.replace(profile, step_max=args.step_max)
+    problem = make_problem(config, profile)
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        result = train(
+            config, args.out or Path(tmp) / "run", seed=args.seed,
+            evaluator=InProcessEvaluator(problem),
+        )  # fmt: skip
+    best = result.best_genome
+    _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / args.robot)
+    own = problem.evaluate([best])  # the training episodes, with their time budgets
+    unseen = assess(best, problem.profile, scenarios)
+    print(json.dumps({
+        "robot": args.robot, "framework": args.framework, "seed": args.seed,
+        "set": args.set, "step_max": problem.profile.step_max,
+        "training_success": float(own.success_rate[0]),
+        "training_collisions": float(own.collision_rate[0]),
+        "unseen_reached": sum(r.reached for r in unseen.results),
+        "unseen_collided": sum(r.collided for r in unseen.results),
+        "hidden_nodes": len(best.hidden_nodes),
+        "seconds": round(time.perf_counter() - start, 1),
+    }))  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
