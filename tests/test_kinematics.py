@@ -74,3 +74,24 @@ def test_arc_fraction_poses_broadcasts() -> None:
     f = np.array([0.0, 0.25, 1.0])
     out = arc_fraction_poses(np.array([0.0, 0.0, 0.0]), 0.0, 4.0, f)
     np.testing.assert_allclose(out, [[0, 0, 0], [1, 0, 0], [4, 0, 0]], atol=1e-15)
+
+
+def test_compiled_arc_agrees_with_its_numpy_twin() -> None:
+    from mentor_core import kinematics
+
+    rng = np.random.default_rng(7)
+    n = 20_000
+    args = [rng.uniform(-20, 20, n), rng.uniform(-20, 20, n), rng.uniform(-np.pi, np.pi, n),
+            rng.uniform(-np.pi, np.pi, n), rng.uniform(0.0, 2.0, n)]  # fmt: skip
+    args[3][:100] = 0.0  # straight moves
+    compiled = unicycle_arc(np.c_[args[0], args[1], args[2]], args[3], args[4])
+    twin = np.empty((n, 3))
+    kinematics._arc_numpy(*args, twin)
+    loop = np.empty((n, 3))
+    kinematics._arc_loop(*args, loop)  # the same source, run by Python
+    np.testing.assert_allclose(compiled[:, :2], twin[:, :2], rtol=0, atol=1e-12)
+    heading = np.remainder(compiled[:, 2] - twin[:, 2] + np.pi, 2 * np.pi) - np.pi
+    assert np.abs(heading).max() <= 1e-12
+    np.testing.assert_allclose(compiled, loop, rtol=0, atol=1e-12)
+    assert (compiled[:, 2] > -np.pi).all() and (compiled[:, 2] <= np.pi).all()
+    np.testing.assert_array_equal(compiled[:100, 2], wrap_angle(args[2][:100]))

@@ -8,6 +8,9 @@ robots; poses are ``(x, y, theta)`` float64 rows with theta wrapped to ``(-pi, p
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -30,16 +33,60 @@ def _arc_points(
     With curvature ``k = dtheta / ds`` the exact arc is
     ``x' = x + (sin(theta + dtheta) - sin theta) / k``, ``y' = y - (cos(theta + dtheta) -
     cos theta) / k``. The same point is reached by the chord of length
-    ``ds * sin(dtheta / 2) / (dtheta / 2)`` along heading ``theta + dtheta / 2``, which has no
-    division by a vanishing curvature (``np.sinc(u) = sin(pi u) / (pi u)``, 1 at ``u = 0``).
+    ``ds * sin(dtheta / 2) / (dtheta / 2)`` (``ds`` when ``dtheta = 0``) along heading
+    ``theta + dtheta / 2``, which has no division by a vanishing curvature.
+
+    One compiled loop (numba) computes it for every caller (the engine, both of its backends,
+    and the reference physics), so they all move robots along bit-identical arcs; the numpy
+    version is the fallback without numba.
     """
-    chord = ds * np.sinc(dtheta / TWO_PI)
-    mid = theta + 0.5 * dtheta
-    out = np.empty((*x.shape, 3), dtype=np.float64)
-    out[..., 0] = x + chord * np.cos(mid)
-    out[..., 1] = y + chord * np.sin(mid)
-    out[..., 2] = wrap_angle(theta + dtheta)
-    return out
+    shape = x.shape
+    fx, fy, ft, fdt, fds = (
+        np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (x, y, theta, dtheta, ds)
+    )
+    out = np.empty((fx.shape[0], 3), dtype=np.float64)
+    if _arc_numba is not None:
+        _arc_numba(fx, fy, ft, fdt, fds, out)
+    else:
+        _arc_numpy(fx, fy, ft, fdt, fds, out)
+    return out.reshape(*shape, 3)
+
+
+def _arc_numpy(
+    x: FloatArray, y: FloatArray, theta: FloatArray, dtheta: FloatArray, ds: FloatArray,
+    out: FloatArray,
+) -> None:
+    half = 0.5 * dtheta
+    safe = np.where(half == 0.0, 1.0, half)
+    chord = np.where(half == 0.0, ds, ds * (np.sin(safe) / safe))
+    mid = theta + half
+    out[:, 0] = x + chord * np.cos(mid)
+    out[:, 1] = y + chord * np.sin(mid)
+    out[:, 2] = wrap_angle(theta + dtheta)
+
+
+def _arc_loop(
+    x: FloatArray, y: FloatArray, theta: FloatArray, dtheta: FloatArray, ds: FloatArray,
+    out: FloatArray,
+) -> None:
+    """Scalar twin of :func:`_arc_numpy` (compiled by numba; ``%`` is Python's floor modulo,
+    as ``np.mod``)."""
+    for i in range(x.shape[0]):
+        half = 0.5 * dtheta[i]
+        chord = ds[i] if half == 0.0 else ds[i] * (math.sin(half) / half)
+        mid = theta[i] + half
+        out[i, 0] = x[i] + chord * math.cos(mid)
+        out[i, 1] = y[i] + chord * math.sin(mid)
+        out[i, 2] = math.pi - ((math.pi - (theta[i] + dtheta[i])) % TWO_PI)
+
+
+_arc_numba: Callable[..., None] | None
+try:
+    from numba import njit
+
+    _arc_numba = njit(cache=True)(_arc_loop)  # no fastmath: IEEE rounding throughout
+except ImportError:  # pragma: no cover - numba is in the lock file
+    _arc_numba = None
 
 
 def unicycle_arc(poses: ArrayLike, dtheta: ArrayLike, ds: ArrayLike) -> FloatArray:
