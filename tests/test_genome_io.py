@@ -114,6 +114,8 @@ def _add_cycle(d: dict[str, Any]) -> None:
 BAD_DOCS: dict[str, tuple[Callable[[dict[str, Any]], None], str]] = {
     "wrong format name": (_set("format", "neat-genome"), "format is 'neat-genome'"),
     "wrong version": (_set("version", 2), "version 2 is not supported"),
+    "boolean version": (_set("version", True), "version True is not supported"),
+    "float version": (_set("version", 1.0), "version 1.0 is not supported"),
     "missing field": (lambda d: d.pop("connections"), "missing connections"),
     "missing gene field": (lambda d: d["connections"][0].pop("weight"), "connections[0]"),
     "unknown field": (_set("colour", "red"), "unknown keys colour"),

@@ -87,7 +87,13 @@ def test_planner_starts_joins_the_graph_and_stops_on_sigint(
                 answered = future.done() and future.result() is not None
         assert proc.poll() is None, proc.communicate()[0].decode(errors="replace")
         assert answered, "the planner never answered on its parameter service"
-        assert ("mentor_planner", namespace) in probe.get_node_names_and_namespaces()
+        # the node list comes from discovery, which may lag the service answer a little
+        listed = False
+        while not listed and time.monotonic() < deadline:
+            listed = ("mentor_planner", namespace) in probe.get_node_names_and_namespaces()
+            if not listed:
+                executor.spin_once(timeout_sec=0.1)
+        assert listed, "the planner answered but never showed in the ROS graph"
         executor.shutdown()
         probe.destroy_node()
         proc.send_signal(signal.SIGINT)

@@ -68,7 +68,7 @@ from rosbags.rosbag2.errors import ReaderError
 from rosbags.serde import SerdeError
 from rosbags.typesys import Stores, get_typestore
 
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 
 if TYPE_CHECKING:
     from rosbags.typesys.store import Typestore
@@ -740,7 +740,7 @@ def _read_topics(
         if not isinstance(head, dict) or head.get("format") != fmt:
             found = head.get("format") if isinstance(head, dict) else None
             raise FileFormatError(p, f"not a {fmt} (format {found!r})")
-        if head.get("version") != VERSION:
+        if not is_version(head.get("version"), VERSION):
             raise FileFormatError(
                 p, f"{fmt} version {head.get('version')!r} is not supported (reads {VERSION})"
             )

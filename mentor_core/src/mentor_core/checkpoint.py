@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from mentor_core.atomic import write_json_atomic
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 from mentor_core.evolution import Evolution
 from mentor_core.reporting import GenerationStats, Reporter
 
@@ -65,7 +65,7 @@ def read_checkpoint(
     if data.get("format") != CHECKPOINT_FORMAT:
         fault = f"format {data.get('format')!r} is not {CHECKPOINT_FORMAT!r}"
         raise FileFormatError(source, fault)
-    if data.get("version") != CHECKPOINT_VERSION:
+    if not is_version(data.get("version"), CHECKPOINT_VERSION):
         raise FileFormatError(
             source, f"checkpoint version {data.get('version')!r} is not supported "
             f"(expected {CHECKPOINT_VERSION})"

@@ -31,3 +31,9 @@ class FileFormatError(MentorError, ValueError):
         self.path = str(path)
         self.fault = fault
         super().__init__(f"{self.path}: {fault}")
+
+
+def is_version(value: object, expected: int) -> bool:
+    """Whether a file's ``version`` field is exactly the integer ``expected`` (JSON ``true``
+    equals 1 in Python, but is not a version)."""
+    return type(value) is int and value == expected

@@ -29,7 +29,7 @@ from typing import Any, Literal
 import numpy as np
 
 from mentor_core.config import EvolutionConfig
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 from mentor_core.genome import Genome, minimal_genome
 from mentor_core.genome_io import genome_from_dict, genome_to_dict
 from mentor_core.innovation import InnovationTracker
@@ -326,7 +326,7 @@ class Evolution:
         """Rebuild from :meth:`to_state`'s dict; ``FileFormatError(source, fault)`` if bad."""
         if not isinstance(d, Mapping):
             raise FileFormatError(source, "evolution state is not a mapping")
-        if d.get("format") != STATE_FORMAT or d.get("version") != STATE_VERSION:
+        if d.get("format") != STATE_FORMAT or not is_version(d.get("version"), STATE_VERSION):
             raise FileFormatError(
                 source,
                 f"evolution state format/version {d.get('format')!r}/{d.get('version')!r} "

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from mentor_core.atomic import write_json_atomic
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 from mentor_core.genome import (
     NODE_KINDS,
     ConnectionGene,
@@ -125,7 +125,7 @@ def _parse_or_fault(d: Any) -> tuple[Genome, dict[str, Any]]:
         raise _Fault(f"top level must be a JSON object, got {type(d).__name__}")
     if d.get("format") != FORMAT:
         raise _Fault(f"format is {d.get('format')!r}, expected {FORMAT!r}")
-    if d.get("version") != VERSION:
+    if not is_version(d.get("version"), VERSION):
         raise _Fault(f"version {d.get('version')!r} is not supported (expected {VERSION})")
     _check_keys(d, _TOP_KEYS, "genome")
     metadata = d["metadata"]

@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Collection, Mapping
 from typing import Any
 
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 
 STATE_FORMAT = "mentor-innovation"
 STATE_VERSION = 1
@@ -93,7 +93,7 @@ class InnovationTracker:
         """Tracker from :meth:`to_state`'s dict; ``FileFormatError(source, fault)`` if bad."""
         if not isinstance(d, Mapping):
             raise FileFormatError(source, "innovation state is not a mapping")
-        if d.get("format") != STATE_FORMAT or d.get("version") != STATE_VERSION:
+        if d.get("format") != STATE_FORMAT or not is_version(d.get("version"), STATE_VERSION):
             raise FileFormatError(
                 source,
                 f"innovation state format/version {d.get('format')!r}/{d.get('version')!r} "

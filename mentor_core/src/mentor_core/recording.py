@@ -48,7 +48,7 @@ from mentor_core.bagio import (
     ScanRecord,
     write_episode_bag,
 )
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 from mentor_core.observation import twist_from_action
 from mentor_core.robots import RobotProfile, get_profile
 from mentor_core.simulator import Decide, RobotSetup, RobotTrace, run_reference_episode
@@ -287,7 +287,8 @@ def episode_setups(log: EpisodeLog, source: str | Path = "<bag>") -> list[list[R
     FileFormatError naming ``source`` when the metadata is not a simulator recording.
     """
     meta = log.metadata
-    if meta.get("recorder") != RECORDER_FORMAT or meta.get("version") != RECORDER_VERSION:
+    version = meta.get("version")
+    if meta.get("recorder") != RECORDER_FORMAT or not is_version(version, RECORDER_VERSION):
         raise FileFormatError(source, "not a simulator recording (no recorder metadata)")
     out = []
     try:

@@ -44,7 +44,7 @@ from matplotlib.patches import Circle, Rectangle
 from numpy.typing import ArrayLike
 
 from mentor_core.atomic import write_bytes_atomic, write_text_atomic
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 from mentor_core.genome import Genome
 from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.trainer import HISTORY_FIELDS, GenerationRecord, RunPaths
@@ -142,7 +142,7 @@ def _read_json(path: Path) -> Any:
 def _check_format(path: Path, data: Any, fmt: str) -> dict[str, Any]:
     if not isinstance(data, dict) or data.get("format") != fmt:
         raise FileFormatError(path, f"not a {fmt} file")
-    if data.get("version") != 1:
+    if not is_version(data.get("version"), 1):
         raise FileFormatError(path, f"unsupported version {data.get('version')!r}")
     return data
 

@@ -29,7 +29,7 @@ import numpy as np
 import yaml
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.errors import ConfigError, FileFormatError, is_version
 
 PROFILES_FORMAT = "mentor-robots"
 PROFILES_VERSION = 1
@@ -205,7 +205,7 @@ def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
         raise FileFormatError(source, "expected a mapping at the top level")
     if doc.get("format") != PROFILES_FORMAT:
         raise FileFormatError(source, f"format is {doc.get('format')!r}, not {PROFILES_FORMAT!r}")
-    if doc.get("version") != PROFILES_VERSION:
+    if not is_version(doc.get("version"), PROFILES_VERSION):
         raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
     _check_keys(doc, {"format", "version", "robots"}, {"format", "version", "robots"}, "", source)
     robots = doc["robots"]

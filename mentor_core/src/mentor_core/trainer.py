@@ -29,7 +29,7 @@ import yaml
 from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.complexity import flops_ratio
 from mentor_core.config import EvolutionConfig
-from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.errors import ConfigError, FileFormatError, is_version
 from mentor_core.evaluators import Evaluator, InProcessEvaluator
 from mentor_core.evolution import Evolution, Mode
 from mentor_core.genome import Genome
@@ -353,7 +353,7 @@ class _Run:
     def load_state(self, state: dict[str, Any], path: Path) -> None:
         if state.get("format") != CHECKPOINT_FORMAT:
             raise FileFormatError(path, f"not a {CHECKPOINT_FORMAT} file")
-        if state.get("version") != CHECKPOINT_VERSION:
+        if not is_version(state.get("version"), CHECKPOINT_VERSION):
             raise FileFormatError(path, f"unsupported version {state.get('version')!r}")
         if state.get("config") != self.config.to_dict() or state.get("seed") != self.seed:
             raise FileFormatError(path, "checkpoint was written by a different config or seed")

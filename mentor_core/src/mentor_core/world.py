@@ -30,7 +30,7 @@ import yaml
 from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.atomic import write_text_atomic
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, is_version
 from mentor_core.kinematics import wrap_angle
 
 WORLD_FORMAT = "mentor-world"
@@ -200,7 +200,7 @@ def _world_from_doc(doc: Any) -> tuple[World, list[Scenario]]:
         raise ValueError("expected a mapping at the top level")
     if doc.get("format") != WORLD_FORMAT:
         raise ValueError(f"format is {doc.get('format')!r}, not {WORLD_FORMAT!r}")
-    if doc.get("version") != WORLD_VERSION:
+    if not is_version(doc.get("version"), WORLD_VERSION):
         raise ValueError(f"version {doc.get('version')!r} is not supported")
     unknown = sorted(set(map(str, doc)) - _TOP_KEYS)
     if unknown:
