@@ -83,12 +83,7 @@ def _decision_limits(
 ) -> tuple[FloatArray, IntArray]:
     """Budgets T_tot ``(n,)`` (s) and decisions allowed ``ceil(T_tot / dt)``, capped."""
     if time_budgets is None:
-        # the trainer repeats its scenarios once per genome: one budget per distinct pair
-        pairs, inverse = np.unique(
-            np.concatenate([starts[:, :2], goals], axis=1), axis=0, return_inverse=True
-        )
-        unique = [profile.time_budget(p[:2], p[2:]) for p in pairs]
-        budget = np.asarray(unique, dtype=np.float64)[inverse.reshape(-1)]
+        budget = profile.time_budgets(starts, goals)
     else:
         budget = np.broadcast_to(np.asarray(time_budgets, dtype=np.float64), starts.shape[:1])
         budget = budget.copy()
@@ -110,7 +105,9 @@ def _group_experience(
         return tuple(np.zeros((0, width), dtype=np.float64) for _ in range(n))
     rows = np.concatenate(chunks, axis=0)
     owner = np.concatenate(owners)
-    order = np.argsort(owner, kind="stable")  # stable: keeps each robot's decisions in order
+    # stable: keeps each robot's decisions in order; 16-bit keys sort by radix, in linear time
+    key = owner.astype(np.int16) if n <= np.iinfo(np.int16).max else owner
+    order = np.argsort(key, kind="stable")
     bounds = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n))]).tolist()
     grouped = rows[order]
     return tuple(grouped[lo:hi] for lo, hi in itertools.pairwise(bounds))

@@ -122,8 +122,18 @@ class RobotProfile:
 
         T_tot = min(cap, slack * d / rated_speed), d = |goal - start| the straight distance.
         """
-        d = float(np.hypot(*(np.asarray(goal_xy, float)[:2] - np.asarray(start_xy, float)[:2])))
-        return min(self.time_budget_cap, self.time_budget_slack * d / self.rated_speed)
+        return float(self.time_budgets(start_xy, goal_xy)[0])
+
+    def time_budgets(self, starts: ArrayLike, goals: ArrayLike) -> NDArray[np.float64]:
+        """:meth:`time_budget` of many scenarios: starts ``(n, >=2)``, goals ``(n, >=2)`` ->
+        ``(n,)`` s."""
+        s = np.atleast_2d(np.asarray(starts, dtype=np.float64))
+        g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
+        d = np.hypot(g[:, 0] - s[:, 0], g[:, 1] - s[:, 1])
+        budgets: NDArray[np.float64] = np.minimum(
+            self.time_budget_cap, self.time_budget_slack * d / self.rated_speed
+        )
+        return budgets
 
 
 def with_planner(
