@@ -19,9 +19,8 @@ import numpy as np
 
 from mentor_core.config import EvolutionConfig
 from mentor_core.evaluators import make_evaluator
-from mentor_core.genome import Genome, minimal_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import mutate
+from mentor_core.genome import Genome
+from mentor_core.mutation import mutated_genomes
 from mentor_core.problem import NavigationProblem
 from mentor_core.robots import get_profile
 from mentor_core.scenarios import training_scenarios
@@ -29,16 +28,8 @@ from mentor_core.scenarios import training_scenarios
 
 def evolved_looking(n: int, n_inputs: int, robot: str, rounds: int, seed: int) -> list[Genome]:
     """``n`` genomes after ``rounds`` of the paper's mutation (hidden nodes, extra edges)."""
-    rng = np.random.default_rng(seed)
-    cfg = EvolutionConfig.paper(robot)
-    tracker = InnovationTracker(next_node_id=n_inputs + 3)
-    genomes = []
-    for _ in range(n):
-        g = minimal_genome(n_inputs, 2, tracker, rng)
-        for _ in range(rounds):
-            g = mutate(g, cfg.mutation, tracker, rng)
-        genomes.append(g)
-    return genomes
+    mutation = EvolutionConfig.paper(robot).mutation
+    return mutated_genomes(n, n_inputs, mutation, rounds, np.random.default_rng(seed))
 
 
 def main() -> None:

@@ -29,9 +29,8 @@ from mentor_core.evaluators import (
     _check_reachable,
     make_evaluator,
 )
-from mentor_core.genome import Genome, minimal_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import mutate
+from mentor_core.genome import Genome
+from mentor_core.mutation import mutated_genomes
 from mentor_core.problem import Evaluation, NavigationProblem
 from mentor_core.trainer import TrainerConfig, make_problem, train
 
@@ -59,16 +58,8 @@ def tiny_config() -> TrainerConfig:
 
 def varied_genomes(n: int, n_inputs: int, rounds: int = 6, seed: int = 5) -> list[Genome]:
     """Minimal genomes put through the paper's mutation, so they carry hidden nodes."""
-    rng = np.random.default_rng(seed)
-    cfg = EvolutionConfig.paper("swarm")
-    tracker = InnovationTracker(next_node_id=n_inputs + 3)
-    genomes = []
-    for _ in range(n):
-        g = minimal_genome(n_inputs, 2, tracker, rng)
-        for _ in range(rounds):
-            g = mutate(g, cfg.mutation, tracker, rng)
-        genomes.append(g)
-    return genomes
+    mutation = EvolutionConfig.paper("swarm").mutation
+    return mutated_genomes(n, n_inputs, mutation, rounds, np.random.default_rng(seed))
 
 
 @pytest.fixture(scope="module")

@@ -127,13 +127,19 @@ def test_watchdog_reports_missing_and_stale_data() -> None:
     assert "differ by 5.000 s" in (gate.watchdog(18 * S) or "")
 
 
-def test_watchdog_is_quiet_between_episodes() -> None:
+def _gate_after_one_episode() -> DecisionGate:
+    """A gate that answered one observation, then saw the episode end (reached at 1 s)."""
     gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
     gate.on_goal((1.0, 1.0))
     gate.on_scan(0, [1.0] * 3)
     gate.on_odometry(0, (0.0, 0.0, 0.0))
     assert gate.take(0) is not None
     gate.on_event("reached", 1 * S)
+    return gate
+
+
+def test_watchdog_is_quiet_between_episodes() -> None:
+    gate = _gate_after_one_episode()
     assert gate.idle and gate.watchdog(100 * S) is None
     gate.on_event("started", 100 * S)  # the next episode: the watchdog counts afresh
     assert not gate.idle
@@ -146,12 +152,7 @@ def test_watchdog_is_quiet_between_episodes() -> None:
 
 
 def test_between_episodes_nothing_is_answered_and_the_new_goal_comes_with_started() -> None:
-    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
-    gate.on_goal((1.0, 1.0))
-    gate.on_scan(0, [1.0] * 3)
-    gate.on_odometry(0, (0.0, 0.0, 0.0))
-    assert gate.take(0) is not None
-    gate.on_event("reached", 1 * S)
+    gate = _gate_after_one_episode()
     # the next episode's observation arrives before its started event: it waits
     gate.on_scan(2 * S, [0.5] * 3)
     gate.on_odometry(2 * S, (3.0, 3.0, 0.0))

@@ -35,6 +35,11 @@ class ScenarioResult:
     final_distance: float
     trajectory: NDArray[np.float64]  # (steps + 1, 3) poses (x, y, theta)
 
+    @property
+    def outcome(self) -> str:
+        """How it ended, as the simulator's end event: reached, collided or timed_out."""
+        return "reached" if self.reached else "collided" if self.collided else "timed_out"
+
 
 @dataclass(frozen=True)
 class Assessment:

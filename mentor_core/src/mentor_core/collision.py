@@ -137,14 +137,14 @@ def sweep_may_collide(
     boxes = np.ascontiguousarray(world.obstacles, dtype=np.float64).reshape(-1, 4)
     if _use_numba(backend) and _broad_phase_numba is not None:
         out = np.empty(x.shape[0], dtype=np.bool_)
-        _broad_phase_numba(x, y, np.ascontiguousarray(reach), boxes, size, out)
+        _broad_phase_numba(x, y, reach, boxes, size, out)
         return out
     may = (x - reach < 0.0) | (x + reach > size) | (y - reach < 0.0) | (y + reach > size)
     if boxes.shape[0]:
         gx = np.maximum(np.maximum(boxes[:, 0] - x[:, None], x[:, None] - boxes[:, 2]), 0.0)
         gy = np.maximum(np.maximum(boxes[:, 1] - y[:, None], y[:, None] - boxes[:, 3]), 0.0)
         may |= (gx * gx + gy * gy <= (reach * reach)[:, None]).any(axis=1)
-    return np.asarray(may, dtype=np.bool_)
+    return may
 
 
 def _broad_phase_loop(

@@ -36,6 +36,7 @@ from mentor_core.genome import (
     Genome,
     NodeGene,
     adjacency,
+    minimal_genome,
     topological_order,
 )
 from mentor_core.innovation import InnovationTracker
@@ -91,6 +92,21 @@ def mutate(
     connections, nodes = _add_nodes(genome, connections, cfg, tracker, rng)
     connections = _add_edges(connections, nodes, cfg, tracker, rng)
     return genome.with_connections(connections, nodes)
+
+
+def mutated_genomes(
+    n: int, n_inputs: int, cfg: MutationConfig, rounds: int, rng: np.random.Generator
+) -> list[Genome]:
+    """``n`` minimal genomes (2 outputs), each put through ``rounds`` of :func:`mutate` with one
+    tracker: random networks with hidden nodes and extra edges, for benchmarks and tests."""
+    tracker = InnovationTracker(next_node_id=n_inputs + 3)  # inputs, bias, 2 outputs
+    genomes = []
+    for _ in range(n):
+        g = minimal_genome(n_inputs, 2, tracker, rng)
+        for _ in range(rounds):
+            g = mutate(g, cfg, tracker, rng)
+        genomes.append(g)
+    return genomes
 
 
 def mutate_weights(

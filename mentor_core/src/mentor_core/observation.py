@@ -2,7 +2,8 @@
 and network outputs into actions. The trainer, the planner node and the tests all call these.
 
 Network inputs, ``k + 3`` of them (``k`` = number of range sensors), in one of the two
-encodings a robot profile names (``RobotProfile.input_encoding``):
+encodings a profile carries (``RobotProfile.input_encoding``, set from the training config or
+the genome's metadata by ``robots.with_planner``):
 
 ``"paper"`` (paper, section III-B)::
 
@@ -14,7 +15,7 @@ encodings a robot profile names (``RobotProfile.input_encoding``):
   the goal), bounded near the goal and scaled to magnitude <= 1 (see :func:`signal_gradient`).
 * ``theta``: global heading, rad, wrapped to ``(-pi, pi]``.
 
-``"egocentric"`` (the shipped profiles)::
+``"egocentric"`` (the shipped training configs)::
 
     [U_1 .. U_k, cos beta, sin beta, S]
 
@@ -77,12 +78,19 @@ def signal_gradient(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> F
 
     Its magnitude is 1 inside the goal radius and ``(R / d)^2`` outside; it points at the goal.
     """
+    unit, d = _goal_direction(poses, goals)
+    return unit * (goal_radius / np.maximum(d, goal_radius))[:, None] ** 2
+
+
+def _goal_direction(poses: ArrayLike, goals: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Map-frame unit vectors (n, 2) from each pose to its goal ((0, 0) on the goal itself)
+    and the distances (n,), m."""
     p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
     g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
     v = g[:, :2] - p[:, :2]
-    d = np.hypot(v[:, 0], v[:, 1])[:, None]
-    unit = np.divide(v, d, out=np.zeros_like(v), where=d > 0.0)
-    return unit * (goal_radius / np.maximum(d, goal_radius)) ** 2
+    d = np.hypot(v[:, 0], v[:, 1])
+    unit = np.divide(v, d[:, None], out=np.zeros_like(v), where=d[:, None] > 0.0)
+    return unit, d
 
 
 def network_inputs(
@@ -127,13 +135,10 @@ def egocentric_goal(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> F
     (by ``-theta``) is ``(cos beta, sin beta)``, ``(0, 0)`` at ``d = 0``;
     ``S = R / max(d, R)`` (``R`` the goal radius).
     """
-    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
-    g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
-    v = g[:, :2] - p[:, :2]
-    d = np.hypot(v[:, 0], v[:, 1])
-    unit = np.divide(v, d[:, None], out=np.zeros_like(v), where=d[:, None] > 0.0)
-    c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
-    out = np.empty((p.shape[0], 3), dtype=np.float64)
+    unit, d = _goal_direction(poses, goals)
+    theta = np.atleast_2d(np.asarray(poses, dtype=np.float64))[:, 2]
+    c, s = np.cos(theta), np.sin(theta)
+    out = np.empty((unit.shape[0], 3), dtype=np.float64)
     out[:, 0] = c * unit[:, 0] + s * unit[:, 1]
     out[:, 1] = -s * unit[:, 0] + c * unit[:, 1]
     out[:, 2] = goal_radius / np.maximum(d, goal_radius)

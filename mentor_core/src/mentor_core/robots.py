@@ -33,6 +33,8 @@ from mentor_core.errors import ConfigError, FileFormatError, is_version
 
 PROFILES_FORMAT = "mentor-robots"
 PROFILES_VERSION = 1
+#: the network input encodings of ``mentor_core.observation``
+INPUT_ENCODINGS = ("paper", "egocentric")
 # a mount may sit on the body edge; this absorbs the rounding of decimal coordinates
 _MOUNT_TOLERANCE = 1e-9
 
@@ -252,7 +254,6 @@ _SCALARS = (
     "test_arena",
 )
 _PROFILE_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
-INPUT_ENCODINGS = ("paper", "egocentric")
 _MOUNT_KEYS = {"x", "y", "angle_deg"}
 
 

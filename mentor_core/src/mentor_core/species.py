@@ -5,7 +5,7 @@ representative lies nearest, if it lies within the distance threshold (``assignm
 nearest``, as neat-python), or the first species by id within the threshold (``assignment:
 first``, as Stanley & Miikkulainen 2002); otherwise it founds a new one. First-match lets the
 oldest species absorb everything within reach: in paper-scale runs one species then held up
-to 90 % of the population in single generations, against the paper's "no niche above about
+to 98 % of the population in single generations, against the paper's "no niche above about
 a third".
 """
 

@@ -462,7 +462,8 @@ def train(
             paths.best_genome,
             metadata={
                 "robot": config.robot,
-                "input_encoding": config.input_encoding,
+                # what the network was trained with (the evaluator's problem), for planners
+                "input_encoding": problem.profile.input_encoding,
                 "heading_change_max": problem.profile.heading_change_max,
                 "framework": config.framework,
                 "seed": seed,

@@ -59,7 +59,7 @@ def load_scenarios(args: argparse.Namespace) -> tuple[RobotProfile, World, list[
 def _table(label: str, assessment: Assessment) -> str:
     lines = [f"{label}", f"  {'#':>3}  {'outcome':<9} {'time s':>7} {'dist m':>7}"]
     for r in assessment.results:
-        outcome = "reached" if r.reached else "collided" if r.collided else "timed out"
+        outcome = r.outcome.replace("_", " ")
         lines.append(f"  {r.scenario:>3}  {outcome:<9} {r.time:7.1f} {r.final_distance:7.3f}")
     s = assessment.summary()
     mean_t = "-" if math.isnan(s["mean_time_reached"]) else f"{s['mean_time_reached']:.1f} s"
@@ -122,31 +122,27 @@ def record(
     scenarios: list[Scenario],
     time_limit: float,
     runs: list[tuple[str, str, Assessment]],
+    planners: list[GenomePlanner],
 ) -> None:
     """Write the episodes of every genome as an episode bag (``--record``).
 
-    The bag holds what the ROS simulator would publish: each genome's planner runs in the
-    reference (pymunk) simulator, ``robot_<i>`` for genome ``i``. An outcome that differs from
-    the batched evaluation (float32 scans can tip a borderline episode) is reported on stderr.
+    The bag holds what the ROS simulator would publish: each genome's planner (``planners[i]``
+    for ``runs[i]``) runs in the reference (pymunk) simulator, ``robot_<i>`` for genome ``i``.
+    An outcome that differs from the batched evaluation (float32 scans can tip a borderline
+    episode) is reported on stderr.
     """
     if path.exists():
         raise FileFormatError(path, "already exists; the recording is not overwritten")
-    planners = {
-        f"robot_{i}": GenomePlanner.load(gpath, profile.name).decide
-        for i, (_, gpath, _) in enumerate(runs)
-    }
-    recorder, traces = record_planners(world, profile, planners, scenarios, time_limit)
+    decide = {f"robot_{i}": planner.decide for i, planner in enumerate(planners)}
+    recorder, traces = record_planners(world, profile, decide, scenarios, time_limit)
     labels = {f"robot_{i}": label for i, (label, _, _) in enumerate(runs)}
     recorder.save(path, profile, {"genomes": labels, "time_limit": time_limit})
     for i, (label, _, assessment) in enumerate(runs):
         for result, trace in zip(assessment.results, traces[f"robot_{i}"], strict=True):
-            batched = (
-                "reached" if result.reached else "collided" if result.collided else "timed_out"
-            )
-            if batched != trace.outcome:
+            if result.outcome != trace.outcome:
                 print(
                     f"mentor-eval: {label} scenario {result.scenario}: {trace.outcome} in the "
-                    f"recording, {batched} in the table",
+                    f"recording, {result.outcome} in the table",
                     file=sys.stderr,
                 )
     print(f"mentor-eval: recorded {recorder.n_episodes} episodes in {path}", file=sys.stderr)
@@ -184,6 +180,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         profile, world, scenarios, source = load_scenarios(args)
         runs: list[tuple[str, str, Assessment]] = []
+        planners: list[GenomePlanner] = []
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
@@ -193,8 +190,10 @@ def main(argv: list[str] | None = None) -> int:
                 raise FileFormatError(path, str(err)) from None
             print(_table(label, assessment))
             runs.append((label, str(path), assessment))
+            if args.record is not None:
+                planners.append(GenomePlanner(genome, planner, str(path)))
         if args.record is not None:
-            record(args.record, profile, world, scenarios, args.time_limit, runs)
+            record(args.record, profile, world, scenarios, args.time_limit, runs, planners)
         if args.out is not None:
             doc = eval_document(profile, world, scenarios, source, args.time_limit, runs)
             write_json_atomic(args.out, doc)
