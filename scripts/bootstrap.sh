@@ -38,9 +38,15 @@ STAMP="$VENV/.mentor-stamp"
 want="$(cat "$ROOT/requirements.lock" "$ROOT/mentor_core/pyproject.toml" | sha256sum | cut -d' ' -f1)"
 if [ "$(cat "$STAMP" 2>/dev/null)" != "$want" ]; then
   echo "bootstrap: installing locked dependencies into .venv (first run takes a minute)" >&2
-  # (grep drops the noise of local pip mirrors some machines configure)
-  "$VENV/bin/python" -m pip install -q --disable-pip-version-check --require-hashes \
+  # The lock is complete (every transitive pin, hashed), so pip installs it as listed with
+  # --no-deps: its resolver then cannot reach past a pin (pip 23.2 did, for an extra such as
+  # pytest-cov's coverage[toml], as soon as a newer coverage was on the index), and
+  # `pip check` proves the pins agree. (grep drops the noise of local pip mirrors.)
+  "$VENV/bin/python" -m pip install -q --disable-pip-version-check --require-hashes --no-deps \
     -r "$ROOT/requirements.lock" 2> >(grep -v 'is ignored: it is neither' >&2)
+  "$VENV/bin/python" -m pip check --disable-pip-version-check >/dev/null ||
+    { "$VENV/bin/python" -m pip check >&2; echo "bootstrap: requirements.lock is inconsistent" >&2
+      exit 1; }
   "$VENV/bin/python" -m pip install -q --disable-pip-version-check --no-deps \
     --no-build-isolation -e "$ROOT/mentor_core"
   echo "$want" > "$STAMP"
