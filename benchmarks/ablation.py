@@ -3,13 +3,14 @@
     export NUMBA_CACHE_DIR=.venv/numba-cache
     .venv/bin/python benchmarks/ablation.py --robot swarm --seed 1 \\
         --set input_encoding=paper --set heading_change_max_deg=180 \\
-        --set evolution.speciation.assignment=first [--step-max 1.0] [--out DIR]
+        --set evolution.speciation.assignment=first [--profile step_max=1.0] [--out DIR]
 
 Trains one run with the shipped paper-scale config (``--framework``, default single) and the
 ``--set KEY=VALUE`` overrides (dotted keys into the trainer config, YAML values), then
 evaluates its best genome on its own training scenarios (their time budgets) and on
-``bags/unseen/<robot>`` (mentor-eval's test: 50 s, goal radius). ``--step-max`` replaces the
-robot's largest step (m per decision), an action range outside the trainer config. Prints
+``bags/unseen/<robot>`` (mentor-eval's test: 50 s, goal radius). ``--profile FIELD=VALUE``
+replaces a field of the robot profile, outside the trainer config (``step_max=1.0``,
+``beam_width_deg=30 --profile beam_rays=5``). Prints
 one JSON object.
 """
 
@@ -18,6 +19,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import tempfile
 import time
 from pathlib import Path
@@ -51,7 +53,12 @@ def main() -> None:
     p.add_argument("--framework", choices=("single", "dual"), default="single")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--set", action="append", default=[], help="KEY=VALUE config override")
-    p.add_argument("--step-max", type=float, help="replace the robot's step_max (m)")
+    p.add_argument(
+        "--profile", action="append", default=[], metavar="FIELD=VALUE",
+        help="replace a robot profile field, e.g. step_max=1.0 (a FIELD_deg in degrees)",
+    )  # fmt: skip
+    p.add_argument("--robots", type=Path, help="robot file to take the profile from")
+    p.add_argument("--unseen", help="robot whose unseen bag to test on (default: --robot)")
     p.add_argument("--out", type=Path, help="run directory (default: a temporary one)")
     args = p.parse_args()
 
@@ -59,9 +66,13 @@ def main() -> None:
     for assignment in args.set:
         apply(data, assignment)
     config = TrainerConfig.from_dict(data, source="--set")
-    profile = get_profile(args.robot)
-    if args.step_max is not None:
-        profile = dataclasses.replace(profile, step_max=args.step_max)
+    profile = get_profile(args.robot, args.robots)
+    for assignment in args.profile:
+        name, _, text = assignment.partition("=")
+        value = yaml.safe_load(text)
+        if name.endswith("_deg"):
+            name, value = name.removesuffix("_deg"), math.radians(value)
+        profile = dataclasses.replace(profile, **{name: value})
     problem = make_problem(config, profile)
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
@@ -70,12 +81,12 @@ def main() -> None:
             evaluator=InProcessEvaluator(problem),
         )  # fmt: skip
     best = result.best_genome
-    _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / args.robot)
+    _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / (args.unseen or args.robot))
     own = problem.evaluate([best])  # the training episodes, with their time budgets
     unseen = assess(best, problem.profile, scenarios)
     print(json.dumps({
         "robot": args.robot, "framework": args.framework, "seed": args.seed,
-        "set": args.set, "step_max": problem.profile.step_max,
+        "set": args.set, "profile": args.profile,
         "training_success": float(own.success_rate[0]),
         "training_collisions": float(own.collision_rate[0]),
         "unseen_reached": sum(r.reached for r in unseen.results),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import shutil
@@ -245,14 +246,19 @@ def test_episode_bag_is_a_plain_jazzy_bag(tmp_path: Path, ugv: RobotProfile) -> 
 
 
 def test_scan_geometry_describes_regular_and_irregular_mounts(ugv: RobotProfile) -> None:
-    geo = scan_geometry(ugv)  # pairs facing the same way: irregular
+    paired = dataclasses.replace(  # a pair facing the same way: irregular
+        ugv, sensors=tuple(dataclasses.replace(m, angle=0.0) for m in ugv.sensors[:2])
+    )
+    geo = scan_geometry(paired)
     assert geo.angle_increment == 0.0
-    assert geo.angle_min == ugv.sensors[0].angle and geo.angle_max == ugv.sensors[-1].angle
+    assert geo.angle_min == geo.angle_max == 0.0
     assert geo.range_min == 0.0 and geo.range_max == ugv.sensor_range
-    swarm = get_profile("swarm")  # -45, 0, +45 deg: evenly spaced
-    sg = scan_geometry(swarm)
-    assert sg.angle_increment == pytest.approx(math.pi / 4)
-    assert sg.angle_min + 2 * sg.angle_increment == pytest.approx(sg.angle_max)
+    for profile, step in ((get_profile("swarm"), 45.0), (ugv, 45.0)):  # evenly spaced
+        sg = scan_geometry(profile)
+        assert sg.angle_increment == pytest.approx(math.radians(step))
+        assert sg.angle_min == profile.sensors[0].angle
+        last = sg.angle_min + (profile.n_sensors - 1) * sg.angle_increment
+        assert last == pytest.approx(sg.angle_max)
 
 
 # ---------------------------------------------------------------------------- bad input

@@ -50,7 +50,7 @@ def test_scan_carries_inf_and_the_profile_geometry(ugv: RobotProfile) -> None:
     msg = sim.laser_scan_from_ranges(ranges, ugv, sim.time_from_ns(2_000_000_000), "r/base_link")
     assert msg.header.frame_id == "r/base_link" and msg.header.stamp.sec == 2
     assert msg.range_min == 0.0 and msg.range_max == pytest.approx(4.0)
-    assert msg.angle_increment == 0.0  # UGV mounts are irregular (pairs per edge)
+    assert msg.angle_increment == pytest.approx(math.pi / 4)  # UGV sensors face every 45 deg
     assert msg.angle_min == pytest.approx(ugv.sensors[0].angle)
     assert msg.angle_max == pytest.approx(ugv.sensors[-1].angle)
     got = np.array(msg.ranges)

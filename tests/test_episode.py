@@ -1,4 +1,4 @@
-"""Episodes: termination, time accounting, trajectories, experience points, one world."""
+"""Episodes: termination, time accounting, trajectories, experience points, several worlds."""
 
 from __future__ import annotations
 
@@ -83,10 +83,36 @@ def test_deterministic_and_backends_agree() -> None:
         np.testing.assert_array_equal(runs[0].time_used, other.time_used)
 
 
-def test_one_world_only_and_empty_input() -> None:
-    other = World(size=12.0)
-    with pytest.raises(ValueError, match="world"):
-        run_episodes([SCENARIOS[0], Scenario(other, (1.0, 1.0, 0.0), (5.0, 5.0))], UGV, straight)
+def test_several_worlds_give_what_each_world_gives_alone() -> None:
+    rng = np.random.default_rng(1)
+    weights = rng.normal(size=(UGV.n_inputs, 2))
+    seen: list[np.ndarray] = []
+
+    def linear(inputs: np.ndarray, robots: np.ndarray) -> np.ndarray:
+        seen.append(robots)
+        total = np.zeros((len(robots), 2))
+        for j in range(inputs.shape[1]):  # row by row: BLAS may round by batch shape
+            total += inputs[:, j, None] * weights[j]
+        return 1.0 / (1.0 + np.exp(-total))
+
+    other = World(size=12.0, obstacles=np.array([[2.0, 2.0, 3.0, 9.0]]))
+    elsewhere = [
+        Scenario(other, (1.0, 6.0, 0.0), (9.0, 6.0)),  # the wall x in [2, 3] is in the way
+        Scenario(other, SCENARIOS[2].start, SCENARIOS[2].goal),
+    ]
+    mixed = [SCENARIOS[0], elsewhere[0], SCENARIOS[1], SCENARIOS[2], elsewhere[1]]
+    budgets = [30.0, 20.0, 10.0, 5.0, 40.0]
+    batch = run_episodes(mixed, UGV, linear, time_budgets=budgets)
+    assert {int(i) for chunk in seen for i in chunk} == set(range(5))  # the caller's indices
+    for i, sc in enumerate(mixed):  # robot i alone, in its own world, with its own budget
+        alone = run_episodes([sc], UGV, linear, time_budgets=[budgets[i]])
+        for name in ("reached", "collided", "timed_out", "time_used", "final_distance", "steps"):
+            assert getattr(batch, name)[i] == getattr(alone, name)[0], name
+        t = alone.trajectories[0]
+        np.testing.assert_array_equal(batch.trajectories[i, : len(t)], t)
+        np.testing.assert_array_equal(batch.trajectories[i, len(t) :], t[-1:].repeat(
+            batch.trajectories.shape[1] - len(t), axis=0))
+        np.testing.assert_array_equal(batch.experience[i], alone.experience[0])
     with pytest.raises(ValueError):
         run_episodes([], UGV, straight)
 

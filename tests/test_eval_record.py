@@ -39,6 +39,10 @@ def test_a_genome_plans_with_the_encoding_its_metadata_names() -> None:
     assert planner_profile(SWARM, {"heading_change_max": 0.5}).heading_change_max == 0.5
     with pytest.raises(ConfigError, match=r"g\.json: heading_change_max"):
         planner_profile(SWARM, {"heading_change_max": "wide"}, "g.json")
+    assert planner_profile(SWARM, {}).step_max == SWARM.step_max
+    assert planner_profile(SWARM, {"step_max": 0.04}).step_max == 0.04
+    with pytest.raises(ConfigError, match=r"g\.json: step_max"):
+        planner_profile(SWARM, {"step_max": 1.0}, "g.json")
 
 
 def test_recorded_episodes_are_the_reference_episodes(tmp_path: Path) -> None:

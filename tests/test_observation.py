@@ -108,6 +108,21 @@ def test_planner_settings_are_checked_and_narrow_the_heading_action() -> None:
     np.testing.assert_allclose(dtheta, [-math.pi / 4, math.pi / 4, 0.0])
 
 
+def test_a_planner_step_limit_narrows_the_step_and_the_rated_speed() -> None:
+    short = with_planner(UGV, step_max=0.5, source="run/best_genome.json")
+    assert short.step_max == 0.5 and short.step_min == UGV.step_min
+    assert short.rated_speed == pytest.approx(UGV.rated_speed / 4)  # same share of top pace
+    assert short.time_budget((1.0, 1.0), (5.0, 4.0)) == pytest.approx(
+        4 * UGV.time_budget((1.0, 1.0), (5.0, 4.0))
+    )
+    _, ds = actions_from_outputs([[0.5, 0.0], [0.5, 1.0]], short)
+    np.testing.assert_allclose(ds, [UGV.step_min, 0.5])
+    assert with_planner(UGV, step_max=UGV.step_max) == UGV
+    for bad in (0.05, 2.5, True, "1"):  # outside [step_min, step_max] of the robot
+        with pytest.raises(ConfigError, match=r"best_genome\.json: step_max"):
+            with_planner(UGV, step_max=bad, source="run/best_genome.json")
+
+
 def test_gradient_is_the_scaled_gradient_of_one_over_d_outside_the_radius() -> None:
     rng = np.random.default_rng(0)
     p = rng.uniform(0, 10, (50, 2))

@@ -9,6 +9,8 @@ there the two answers may differ by rounding, and a test that depends on luck wo
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -21,9 +23,9 @@ from mentor_core.collision import (
     swept_collision,
     swept_samples,
 )
-from mentor_core.robots import RobotProfile, get_profile
+from mentor_core.robots import RobotProfile, SensorMount, get_profile
 from mentor_core.scenarios import sample_world
-from mentor_core.sensors import sensor_frames, sensor_readings
+from mentor_core.sensors import beam_frames, sensor_readings
 from mentor_core.world import World
 
 pymunk_world = pytest.importorskip(
@@ -67,20 +69,32 @@ def _random_case(seed: int, profile: RobotProfile) -> tuple[World, np.ndarray]:
     return world, np.c_[xy, rng.uniform(-np.pi, np.pi, POSES_PER_WORLD)]
 
 
-@pytest.mark.parametrize("robot", ["ugv", "swarm"])
+def _profile(robot: str) -> RobotProfile:
+    """A shipped profile, or ``<name>-beam``: its sensors as 45 deg beams of 5 rays."""
+    name, _, beam = robot.partition("-")
+    profile = get_profile(name)
+    return dataclasses.replace(profile, beam_width=np.pi / 4, beam_rays=5) if beam else profile
+
+
+@pytest.mark.parametrize("robot", ["ugv", "swarm", "ugv-beam"])
 @settings(derandomize=True, max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_ranges_agree(robot: str, seed: int) -> None:
-    profile = get_profile(robot)
+    profile = _profile(robot)
     world, poses = _random_case(seed, profile)
     reference = pymunk_world.PymunkWorld(world, profile)
     ours = sensor_readings(poses, profile, world)
-    frames = sensor_frames(poses, profile)
+    rays = beam_frames(poses, profile)  # (n, sensors, rays, 3)
+    hits = sensor_readings(poses, dataclasses.replace(  # every ray as a sensor of its own
+        profile, beam_width=0.0, beam_rays=1, sensors=tuple(
+            SensorMount(m.x, m.y, m.angle + a) for m in profile.sensors
+            for a in profile.beam_offsets)), world).reshape(rays.shape[:3])
     for i, pose in enumerate(poses):
         theirs = reference.ranges(pose)
-        skip = _degenerate_rays(frames[i, :, :2], frames[i, :, 2], ours[i], world,
-                                profile.sensor_range)
-        keep = ~skip
+        # a sensor is skipped when any of its rays is degenerate
+        skip = _degenerate_rays(rays[i, ..., :2].reshape(-1, 2), rays[i, ..., 2].reshape(-1),
+                                hits[i].reshape(-1), world, profile.sensor_range)
+        keep = ~skip.reshape(rays.shape[1:3]).any(axis=1)
         np.testing.assert_array_equal(np.isinf(ours[i, keep]), np.isinf(theirs[keep]))
         finite = keep & np.isfinite(ours[i])
         np.testing.assert_allclose(ours[i, finite], theirs[finite], rtol=0,

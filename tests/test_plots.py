@@ -9,15 +9,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from profiles_support import UGV_STRAIGHT
 
 from mentor_core.cli.draw import main, straight_to_goal
 from mentor_core.plots import draw_world, new_figure, save_png
 from mentor_core.pymunk_world import PymunkWorld
-from mentor_core.robots import get_profile
 from mentor_core.world import Scenario, World, save_world
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
-UGV = get_profile("ugv")
+UGV = UGV_STRAIGHT  # a pair on each edge facing straight out: rays easy to check by hand
 
 
 def test_draw_world_draws_every_element() -> None:

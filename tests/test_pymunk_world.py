@@ -6,12 +6,13 @@ import math
 
 import numpy as np
 import pytest
+from profiles_support import UGV_STRAIGHT
 
 from mentor_core.pymunk_world import PymunkWorld
 from mentor_core.robots import get_profile
 from mentor_core.world import World
 
-UGV = get_profile("ugv")  # 0.30 x 0.25 m, sensors on the edges, range 4 m
+UGV = UGV_STRAIGHT  # 0.30 x 0.25 m, a pair on each edge facing straight out, range 4 m
 SWARM = get_profile("swarm")
 INF = math.inf
 

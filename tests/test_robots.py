@@ -30,21 +30,23 @@ def test_default_profiles_follow_the_design_brief() -> None:
     assert ugv.control_period == swarm.control_period == 1.0
 
 
-def test_ugv_sensors_are_pairs_on_each_edge_facing_out_counter_clockwise() -> None:
+def test_ugv_sensors_are_pairs_on_each_edge_facing_out_every_45_degrees() -> None:
     ugv = get_profile("ugv")
     hl, hw = ugv.length / 2, ugv.width / 2
     for i in range(0, 8, 2):
         a, b = ugv.sensors[i], ugv.sensors[i + 1]
-        assert a.angle == b.angle
         assert math.hypot(a.x - b.x, a.y - b.y) == pytest.approx(0.075)
-        normal = (math.cos(a.angle), math.sin(a.angle))
-        for s in (a, b):  # on the edge whose outward normal is the facing direction
-            assert s.x * normal[0] + s.y * normal[1] == pytest.approx(
-                hl if abs(normal[0]) > 0.5 else hw
-            )
+        edge = i * math.pi / 4  # outward normal of the edge: front, left, rear, right
+        normal = (math.cos(edge), math.sin(edge))
+        for s, splay in ((a, -math.pi / 8), (b, math.pi / 8)):
+            # on that edge, facing out of it, splayed 22.5 deg about its normal
+            assert s.x * normal[0] + s.y * normal[1] == pytest.approx(hl if i % 4 == 0 else hw)
+            assert s.angle == pytest.approx(edge + splay)
     bearings = np.unwrap([math.atan2(s.y, s.x) for s in ugv.sensors])
     assert np.all(np.diff(bearings) > 0)  # counter-clockwise order, one full turn
     assert bearings[-1] - bearings[0] < 2 * math.pi
+    np.testing.assert_allclose(np.diff([s.angle for s in ugv.sensors]), math.pi / 4)
+    assert ugv.beam_width == 0.0 and ugv.beam_rays == 1  # single rays unless a file says
 
 
 def test_swarm_sensors_on_the_front_edge() -> None:
@@ -103,6 +105,14 @@ def _mutate(doc: dict[str, Any], change: str) -> None:
         ugv["train_scenarios"] = 0
     elif change == "mount_key":
         ugv["sensors"][1]["angle"] = 0.0
+    elif change == "beam_without_rays":
+        ugv["beam_width_deg"] = 30.0
+    elif change == "rays_without_beam":
+        ugv["beam_rays"] = 3
+    elif change == "beam_too_wide":
+        ugv.update(beam_width_deg=180.0, beam_rays=5)
+    elif change == "beam_rays_float":
+        ugv.update(beam_width_deg=30.0, beam_rays=2.5)
 
 
 @pytest.mark.parametrize(
@@ -116,6 +126,10 @@ def _mutate(doc: dict[str, Any], change: str) -> None:
         ("bool", "robots.ugv.rated_speed"),
         ("count", "robots.ugv.train_scenarios"),
         ("mount_key", "robots.ugv.sensors[1].angle"),
+        ("beam_without_rays", "robots.ugv.beam_rays"),
+        ("rays_without_beam", "robots.ugv.beam_rays"),
+        ("beam_too_wide", "robots.ugv.beam_width_deg"),
+        ("beam_rays_float", "robots.ugv.beam_rays"),
     ],
 )
 def test_bad_values_name_key_and_file(tmp_path: Path, change: str, key: str) -> None:
@@ -153,3 +167,14 @@ def test_loaded_copy_equals_default(tmp_path: Path) -> None:
     path = tmp_path / "robots.yaml"
     path.write_text(yaml.safe_dump(_default_doc()))
     assert load_profiles(path) == load_profiles()
+
+
+def test_a_beam_is_read_from_the_file_and_sampled_evenly(tmp_path: Path) -> None:
+    doc = _default_doc()
+    doc["robots"]["ugv"].update(beam_width_deg=30.0, beam_rays=3)
+    path = tmp_path / "robots.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    ugv = load_profiles(path)["ugv"]
+    assert ugv.beam_width == pytest.approx(math.radians(30.0)) and ugv.beam_rays == 3
+    np.testing.assert_allclose(ugv.beam_offsets, np.radians([-15.0, 0.0, 15.0]))
+    np.testing.assert_array_equal(get_profile("ugv").beam_offsets, [0.0])

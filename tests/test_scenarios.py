@@ -99,6 +99,23 @@ def test_same_seed_same_scenarios_other_seed_differs() -> None:
     assert few == many[:5]
 
 
+def test_training_scenarios_spread_over_several_worlds() -> None:
+    ugv = get_profile("ugv")
+    one = training_scenarios(ugv, 11, n=7)
+    three = training_scenarios(ugv, 11, n=7, worlds=3)
+    worlds = [sc.world for sc in three]
+    assert [w.name for w in worlds] == (
+        ["ugv-train-seed11"] * 3 + ["ugv-train-seed11-world1"] * 2
+        + ["ugv-train-seed11-world2"] * 2
+    )
+    assert worlds[0] == one[0].world  # the first world is the one-world DoE's
+    assert worlds[3] != worlds[0] and worlds[5] != worlds[3]
+    assert _digest(training_scenarios(ugv, 11, n=7, worlds=3)) == _digest(three)
+    for bad in ({"worlds": 0}, {"n": 2, "worlds": 3}):
+        with pytest.raises(ValueError, match="world"):
+            training_scenarios(ugv, 11, **bad)  # type: ignore[arg-type]
+
+
 def test_sample_scenarios_bad_requests() -> None:
     profile = get_profile("ugv")
     world = World(12.0)

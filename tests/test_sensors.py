@@ -2,11 +2,22 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
+from profiles_support import UGV_STRAIGHT
 
 from mentor_core.robots import get_profile
-from mentor_core.sensors import HAVE_NUMBA, Backend, cast_rays, sensor_frames, sensor_readings
+from mentor_core.scenarios import sample_world
+from mentor_core.sensors import (
+    HAVE_NUMBA,
+    Backend,
+    beam_frames,
+    cast_rays,
+    sensor_frames,
+    sensor_readings,
+)
 from mentor_core.world import World
 
 BOX = np.array([[3.0, 0.5, 4.0, 1.5]])
@@ -81,13 +92,14 @@ def test_shape_mismatch_raises() -> None:
 def test_sensor_frames_follow_the_body() -> None:
     ugv = get_profile("ugv")
     frames = sensor_frames(np.array([[5.0, 5.0, np.pi / 2]]), ugv)[0]
-    # front-right mount (0.15, -0.0375) of a robot facing +y sits at (5.0375, 5.15)
-    np.testing.assert_allclose(frames[0], [5.0375, 5.15, np.pi / 2], atol=1e-12)
+    # front-right mount (0.15, -0.0375), facing -22.5 deg, of a robot facing +y sits at
+    # (5.0375, 5.15) and faces 67.5 deg
+    np.testing.assert_allclose(frames[0], [5.0375, 5.15, np.pi / 2 - np.pi / 8], atol=1e-12)
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_sensor_readings_in_an_empty_arena(backend: Backend) -> None:
-    ugv = get_profile("ugv")
+    ugv = UGV_STRAIGHT
     world = World(size=8.0)
     r = sensor_readings(np.array([[5.0, 5.0, 0.0], [4.0, 4.0, 0.0]]), ugv, world,
                         backend=backend)
@@ -98,9 +110,38 @@ def test_sensor_readings_in_an_empty_arena(backend: Backend) -> None:
 
 
 def test_sensor_readings_see_a_box() -> None:
-    ugv = get_profile("ugv")
+    ugv = UGV_STRAIGHT
     world = World(size=12.0, obstacles=np.array([[6.0, 4.0, 7.0, 6.0]]))
     pose = np.array([[5.0, 5.0, 0.0]])
     r = sensor_readings(pose, ugv, world)
     np.testing.assert_allclose(r[0, :2], [0.85, 0.85])
     np.testing.assert_array_equal(r, sensor_readings(pose, ugv, world, backend="numpy"))
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_beam_reads_its_nearest_ray(backend: Backend) -> None:
+    # a post at 45 deg off the front: the straight-out ray misses it, a 90 deg beam sees it
+    world = World(size=12.0, obstacles=np.array([[6.0, 6.0, 6.4, 6.4]]))
+    ray = dataclasses.replace(UGV_STRAIGHT, sensors=UGV_STRAIGHT.sensors[1:2])  # (0.15, 0.0375)
+    beam = dataclasses.replace(ray, beam_width=np.pi / 2, beam_rays=3)  # -45, 0, +45 deg
+    pose = np.array([[5.0, 5.0, 0.0]])
+    assert np.isinf(sensor_readings(pose, ray, world, backend=backend)).all()
+    got = sensor_readings(pose, beam, world, backend=backend)
+    # the +45 deg ray from (5.15, 5.0375) meets the post's lower face y = 6 at x = 6.1125
+    assert got[0, 0] == pytest.approx((6.0 - 5.0375) * np.sqrt(2.0), abs=1e-12)
+    frames = beam_frames(pose, beam)
+    assert frames.shape == (1, 1, 3, 3)
+    np.testing.assert_allclose(frames[0, 0, :, 2], [-np.pi / 4, 0.0, np.pi / 4])
+
+
+def test_beam_readings_are_the_minimum_of_their_rays_on_both_backends() -> None:
+    rng = np.random.default_rng(5)
+    ugv = dataclasses.replace(get_profile("ugv"), beam_width=np.radians(40.0), beam_rays=4)
+    world = sample_world(12.0, rng)
+    poses = np.c_[rng.uniform(1.0, 11.0, (50, 2)), rng.uniform(-np.pi, np.pi, 50)]
+    got = sensor_readings(poses, ugv, world)
+    np.testing.assert_array_equal(got, sensor_readings(poses, ugv, world, backend="numpy"))
+    rays = beam_frames(poses, ugv)
+    each = cast_rays(rays[..., :2].reshape(-1, 2), rays[..., 2].reshape(-1), world.obstacles,
+                     world.size, ugv.sensor_range).reshape(rays.shape[:3])
+    np.testing.assert_array_equal(got, each.min(axis=2))

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from profiles_support import UGV_STRAIGHT
 
 from mentor_core.episode import run_episodes
 from mentor_core.genome import minimal_genome
@@ -124,7 +125,7 @@ def test_robots_see_and_hit_each_other() -> None:
     sim = ReferenceSimulator(World(10.0), 1.0)
     sim.start(
         [
-            RobotSetup("a", UGV, (3.0, 5.0, 0.0), (9.0, 9.0)),
+            RobotSetup("a", UGV_STRAIGHT, (3.0, 5.0, 0.0), (9.0, 9.0)),
             RobotSetup("b", SWARM, (5.0, 5.0, math.pi / 2), (5.0, 9.0)),
         ]
     )

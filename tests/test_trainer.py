@@ -61,6 +61,12 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
     assert meta["heading_change_max"] == make_problem(tiny()).profile.heading_change_max
     narrow = make_problem(tiny(heading_change_max_deg=45)).profile
     assert narrow.heading_change_max == pytest.approx(np.pi / 4)
+    assert meta["step_max"] == make_problem(tiny()).profile.step_max
+    assert make_problem(tiny(step_max=0.04)).profile.step_max == 0.04
+    with pytest.raises(ConfigError, match="step_max"):  # beyond the robot's own
+        make_problem(tiny(step_max=1.0))
+    spread = make_problem(tiny(training_worlds=2)).scenarios
+    assert len({sc.world.name for sc in spread}) == 2
     pareto = json.loads((dual_run / "pareto.json").read_text())
     assert pareto["front"] and len(pareto["points"]) == 8
 
@@ -118,6 +124,10 @@ def test_pool_backend_is_bit_identical_to_in_process() -> None:
         ({"bogus": 1}, "bogus"),
         ({"input_encoding": "polar"}, "input_encoding"),
         ({"heading_change_max_deg": 270}, "heading_change_max_deg"),
+        ({"step_max": 0}, "step_max"),
+        ({"step_max": True}, "step_max"),
+        ({"training_worlds": 0}, "training_worlds"),
+        ({"n_scenarios": 2, "training_worlds": 3}, "training_worlds"),
     ],
 )
 def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:

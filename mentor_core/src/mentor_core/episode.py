@@ -1,4 +1,4 @@
-"""Episodes: many robots, one world, one policy call per control period for all of them.
+"""Episodes: many robots, one policy call per control period for all of them in a world.
 
 Each robot runs one scenario. Once per control period every still-active robot reads its
 sensors, the policy maps all their network inputs to outputs in one call, the outputs become
@@ -19,6 +19,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -67,14 +68,21 @@ class EpisodeBatch:
         return np.where(self.reached, left, 0.0)
 
 
-def _common_world(scenarios: Sequence[Scenario]) -> Scenario:
+def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
+    """Indices of the scenarios of each distinct world, in order of first appearance."""
     if not scenarios:
         raise ValueError("run_episodes needs at least one scenario")
-    first = scenarios[0]
+    firsts: list[Scenario] = []
+    members: list[list[int]] = []
     for i, sc in enumerate(scenarios):
-        if sc.world is not first.world and sc.world != first.world:
-            raise ValueError(f"scenario {i} is in another world; one batch runs in ONE world")
-    return first
+        for first, group in zip(firsts, members, strict=True):
+            if sc.world is first.world or sc.world == first.world:
+                group.append(i)
+                break
+        else:
+            firsts.append(sc)
+            members.append([i])
+    return [np.asarray(group, dtype=np.int64) for group in members]
 
 
 def _decision_limits(
@@ -118,10 +126,14 @@ def run_episodes(
     time_budgets: ArrayLike | None = None, max_steps: int | None = None,
     backend: Backend = "auto",
 ) -> EpisodeBatch:
-    """Run one robot per scenario, all in the scenarios' common world, to the end.
+    """Run one robot per scenario to the end.
+
+    The robots of one world step together in one engine; scenarios in several worlds run as
+    one such batch per world, and since a robot's outputs do not depend on which robots share
+    a policy call, the result is the same as one run per scenario.
 
     Args:
-        scenarios: start/goal pairs, all in one world (ValueError otherwise).
+        scenarios: start/goal pairs, in one world or several.
         profile: the robot.
         policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, 2)``, called
             once per control period for the ``m`` still-active robots (indices ascending).
@@ -129,7 +141,53 @@ def run_episodes(
         max_steps: cap on the decisions of every robot.
         backend: kernel backend of the engine.
     """
-    world = _common_world(scenarios).world
+    groups = _world_groups(scenarios)
+    if len(groups) == 1:
+        return _run_world(scenarios, profile, policy, time_budgets, max_steps, backend)
+    n = len(scenarios)
+    budgets = (
+        None if time_budgets is None
+        else np.broadcast_to(np.asarray(time_budgets, dtype=np.float64), (n,))
+    )  # fmt: skip
+    parts = []
+    for idx in groups:
+        def world_policy(inputs: FloatArray, robots: IntArray, idx: IntArray = idx) -> ArrayLike:
+            return policy(inputs, idx[robots])
+
+        parts.append(_run_world(
+            [scenarios[i] for i in idx], profile, world_policy,
+            None if budgets is None else budgets[idx], max_steps, backend,
+        ))  # fmt: skip
+    return _merge(parts, groups, n)
+
+
+def _merge(parts: Sequence[EpisodeBatch], groups: Sequence[IntArray], n: int) -> EpisodeBatch:
+    """One batch of ``n`` robots from per-world batches of the robots ``groups[j]``."""
+    fields: dict[str, Any] = {}
+    for name in ("reached", "collided", "timed_out", "time_used", "time_budget",
+                 "final_distance", "steps"):  # fmt: skip
+        out = np.empty(n, dtype=getattr(parts[0], name).dtype)
+        for part, idx in zip(parts, groups, strict=True):
+            out[idx] = getattr(part, name)
+        fields[name] = out
+    length = max(part.trajectories.shape[1] for part in parts)
+    trajectories = np.empty((n, length, 3), dtype=np.float64)
+    experience: list[FloatArray] = [np.empty(0)] * n
+    for part, idx in zip(parts, groups, strict=True):
+        t = part.trajectories
+        trajectories[idx, : t.shape[1]] = t
+        trajectories[idx, t.shape[1] :] = t[:, -1:]  # padded with the final pose
+        for i, rows in zip(idx.tolist(), part.experience, strict=True):
+            experience[i] = rows
+    return EpisodeBatch(**fields, trajectories=trajectories, experience=tuple(experience))
+
+
+def _run_world(
+    scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy,
+    time_budgets: ArrayLike | None, max_steps: int | None, backend: Backend,
+) -> EpisodeBatch:
+    """:func:`run_episodes` of scenarios that all lie in the first one's world."""
+    world = scenarios[0].world
     n = len(scenarios)
     starts = np.array([sc.start for sc in scenarios], dtype=np.float64).reshape(n, 3)
     goals = np.array([sc.goal for sc in scenarios], dtype=np.float64).reshape(n, 2)

@@ -54,8 +54,8 @@ def planner_profile(
     profile: RobotProfile, metadata: Mapping[str, Any], source: str | Path = ""
 ) -> RobotProfile:
     """``profile`` as the genome was trained to use it: its metadata's ``input_encoding``
-    (``"paper"`` for a genome saved before the key existed) and ``heading_change_max`` (rad;
-    the profile's when absent).
+    (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad) and
+    ``step_max`` (m; each the profile's when absent).
 
     ConfigError naming ``source`` for a bad value.
     """
@@ -63,6 +63,7 @@ def planner_profile(
         profile,
         input_encoding=metadata.get("input_encoding", "paper"),
         heading_change_max=metadata.get("heading_change_max"),
+        step_max=metadata.get("step_max"),
         source=source,
     )
 

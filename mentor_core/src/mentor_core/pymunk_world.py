@@ -17,10 +17,11 @@ Geometry:
   shape filter group, so its rays and collision checks ignore its own body but see every other
   robot.
 
-Range reading of a sensor: the first hit of the segment ``o -> o + R u`` (``o``, ``u`` the
-sensor's map-frame origin and direction, ``R`` the sensor range) by
-``Space.segment_query_first``: ``alpha * R`` m, or ``+inf`` when nothing lies within ``R``
-(REP-117); 0 when the origin is inside a shape.
+Range reading of a sensor: the nearest first hit, over its beam's rays, of the segment
+``o -> o + R u`` (``o``, ``u`` a ray's map-frame origin and direction from
+``sensors.beam_frames``, ``R`` the sensor range) by ``Space.segment_query_first``:
+``alpha * R`` m, or ``+inf`` when nothing lies within ``R`` (REP-117); 0 when the origin is
+inside a shape.
 
 Collision: the body overlaps an obstacle, a wall or another robot with penetration depth
 above ``CONTACT_TOLERANCE`` (touching is free), or a body corner lies outside the arena.
@@ -46,7 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 from mentor_core.collision import sample_counts
 from mentor_core.kinematics import arc_samples, wrap_angle
 from mentor_core.robots import RobotProfile, body_corners
-from mentor_core.sensors import sensor_frames
+from mentor_core.sensors import beam_frames
 from mentor_core.world import World
 
 # Penetration (m) below which two shapes only touch: pymunk reports exact touching as a
@@ -173,14 +174,17 @@ class PymunkWorld:
         +inf when nothing lies in range."""
         shape_filter = self._filter(robot)
         profile = self.profile if robot is None else self._profiles[robot]
-        frames = sensor_frames(np.asarray(_pose(pose))[None, :], profile)[0]
+        frames = beam_frames(np.asarray(_pose(pose))[None, :], profile)[0]
         reach = profile.sensor_range
         out = np.full(profile.n_sensors, np.inf, dtype=np.float64)
-        for i, (ox, oy, a) in enumerate(frames):
-            end = (float(ox + reach * np.cos(a)), float(oy + reach * np.sin(a)))
-            hit = self._space.segment_query_first((float(ox), float(oy)), end, 0.0, shape_filter)
-            if hit is not None:
-                out[i] = hit.alpha * reach
+        for i, rays in enumerate(frames):
+            for ox, oy, a in rays:  # a beam reads its nearest ray's hit
+                end = (float(ox + reach * np.cos(a)), float(oy + reach * np.sin(a)))
+                hit = self._space.segment_query_first(
+                    (float(ox), float(oy)), end, 0.0, shape_filter
+                )
+                if hit is not None:
+                    out[i] = min(out[i], hit.alpha * reach)
         return out
 
     def collides(

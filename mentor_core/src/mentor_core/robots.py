@@ -9,9 +9,10 @@ Sensor order: reading ``i`` (network input ``i``, LaserScan range ``i``) comes f
 ``profile.sensors[i]``. The default profiles list their sensors counter-clockwise seen from
 above, as a LaserScan's angles increase:
 
-* ``ugv``: 0 front-right, 1 front-left (front edge, facing forward), 2 left-front, 3 left-rear
-  (facing left), 4 rear-left, 5 rear-right (facing back), 6 right-rear, 7 right-front (facing
-  right); the two sensors of an edge are 0.075 m apart.
+* ``ugv``: 0 front-right, 1 front-left (front edge), 2 left-front, 3 left-rear (left edge),
+  4 rear-left, 5 rear-right (rear edge), 6 right-rear, 7 right-front (right edge); the two
+  sensors of an edge are 0.075 m apart and splayed +-22.5 deg about its normal, so sensor
+  ``i`` faces ``-22.5 + 45 i`` deg.
 * ``swarm``: 0 front-right (-45 deg), 1 front-centre (0 deg), 2 front-left (+45 deg).
 """
 
@@ -57,6 +58,9 @@ class RobotProfile:
         length, width: body rectangle along x and y of the body frame, m.
         sensors: range sensors in reading order (see the module docstring).
         sensor_range: maximum range of every sensor, m.
+        beam_width: full opening angle of every sensor's beam, rad (0: a single ray).
+        beam_rays: rays that sample a beam, evenly spread over ``beam_width`` (1 for a ray);
+            a reading is the nearest of its rays (see :meth:`beam_offsets`).
         heading_change_max: the heading change action lies in [-max, max], rad.
         step_min, step_max: the translation action lies in [step_min, step_max], m.
         control_period: time of one decision, s.
@@ -88,12 +92,27 @@ class RobotProfile:
     train_arena: float
     train_scenarios: int
     test_arena: float
+    beam_width: float = 0.0
+    beam_rays: int = 1
     input_encoding: str = "paper"
 
     @property
     def n_sensors(self) -> int:
         """Number of range sensors (readings)."""
         return len(self.sensors)
+
+    @property
+    def beam_offsets(self) -> NDArray[np.float64]:
+        """Directions of a beam's rays relative to its sensor's facing, rad: ``(beam_rays,)``.
+
+        ``beam_rays`` angles evenly spaced over ``[-beam_width / 2, beam_width / 2]`` (the one
+        ray of a zero-width beam faces straight out). An ultrasonic sensor reports its nearest
+        echo anywhere in its cone; the nearest hit of these rays samples that cone.
+        """
+        if self.beam_rays == 1:
+            return np.zeros(1, dtype=np.float64)
+        half = 0.5 * self.beam_width
+        return np.linspace(-half, half, self.beam_rays, dtype=np.float64)
 
     @property
     def n_inputs(self) -> int:
@@ -143,13 +162,19 @@ def with_planner(
     *,
     input_encoding: object = None,
     heading_change_max: object = None,
+    step_max: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
-    """``profile`` as a planner sees it: its input encoding and its heading-change limit (rad,
-    in ``(0, pi]``) replaced where given (None keeps the profile's).
+    """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
+    ``(0, pi]``) and its largest step (m, in ``[step_min, profile.step_max]``) replaced where
+    given (None keeps the profile's).
 
-    Both belong to a planner, not to the robot: the trainer takes them from its config and
-    writes them into the genome's metadata (``mentor_core.planning.planner_profile``).
+    A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
+    profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
+    of a scenario (:meth:`RobotProfile.time_budget`) stays reachable.
+
+    All three belong to a planner, not to the robot: the trainer takes them from its config
+    and writes them into the genome's metadata (``mentor_core.planning.planner_profile``).
     ConfigError naming ``source`` and the key for a bad value.
     """
     changes: dict[str, Any] = {}
@@ -175,6 +200,20 @@ def with_planner(
                 path=where,
             )
         changes["heading_change_max"] = min(float(limit), math.pi)
+    if step_max is not None:
+        if (
+            isinstance(step_max, bool)
+            or not isinstance(step_max, int | float)
+            or not profile.step_min <= float(step_max) <= profile.step_max
+        ):
+            raise ConfigError(
+                f"must be a number in [{profile.step_min}, {profile.step_max}] m, "
+                f"got {step_max!r}",
+                key="step_max",
+                path=where,
+            )
+        changes["step_max"] = float(step_max)
+        changes["rated_speed"] = profile.rated_speed * float(step_max) / profile.step_max
     return dataclasses.replace(profile, **changes)
 
 
@@ -253,7 +292,9 @@ _SCALARS = (
     "train_arena",
     "test_arena",
 )
-_PROFILE_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
+_REQUIRED_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
+# optional: a ray sensor (width 0, one ray) unless given
+_BEAM_KEYS = {"beam_width_deg", "beam_rays"}
 _MOUNT_KEYS = {"x", "y", "angle_deg"}
 
 
@@ -261,7 +302,7 @@ def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
     prefix = f"robots.{name}"
     if not isinstance(spec, dict):
         raise ConfigError("expected a mapping", key=prefix, path=source)
-    _check_keys(spec, _PROFILE_KEYS, _PROFILE_KEYS, prefix, source)
+    _check_keys(spec, _REQUIRED_KEYS | _BEAM_KEYS, _REQUIRED_KEYS, prefix, source)
     # every scalar of a profile is a size, a time or a limit: all must be positive
     v = {key: _number(spec[key], f"{prefix}.{key}", source, positive=True) for key in _SCALARS}
     if v["step_min"] > v["step_max"]:
@@ -270,11 +311,8 @@ def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
             key=f"{prefix}.step_min",
             path=source,
         )
-    count = spec["train_scenarios"]
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise ConfigError(
-            "must be a positive integer", key=f"{prefix}.train_scenarios", path=source
-        )
+    count = _count(spec["train_scenarios"], f"{prefix}.train_scenarios", source)
+    beam_width, beam_rays = _beam(spec, prefix, source)
     mounts = spec["sensors"]
     if not isinstance(mounts, list) or not mounts:
         raise ConfigError("expected a non-empty list", key=f"{prefix}.sensors", path=source)
@@ -299,7 +337,33 @@ def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
         train_arena=v["train_arena"],
         train_scenarios=count,
         test_arena=v["test_arena"],
+        beam_width=beam_width,
+        beam_rays=beam_rays,
     )
+
+
+def _count(value: Any, key: str, source: Path) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ConfigError("must be a positive integer", key=key, path=source)
+    return value
+
+
+def _beam(spec: Mapping[str, Any], prefix: str, source: Path) -> tuple[float, int]:
+    """``(beam_width rad, beam_rays)`` of a profile: a single ray unless both say otherwise."""
+    width = _number(spec.get("beam_width_deg", 0.0), f"{prefix}.beam_width_deg", source)
+    rays = _count(spec.get("beam_rays", 1), f"{prefix}.beam_rays", source)
+    if not 0.0 <= width < 180.0:
+        raise ConfigError(
+            f"must lie in [0, 180) deg, got {width}", key=f"{prefix}.beam_width_deg", path=source
+        )
+    if (width == 0.0) != (rays == 1):
+        raise ConfigError(
+            f"a beam {width} deg wide needs {'1 ray' if width == 0.0 else 'at least 2 rays'}, "
+            f"got {rays}",
+            key=f"{prefix}.beam_rays",
+            path=source,
+        )
+    return math.radians(width), rays
 
 
 def _parse_mount(spec: Any, key: str, length: float, width: float, source: Path) -> SensorMount:

@@ -208,16 +208,33 @@ def sample_scenarios(
 
 
 def training_scenarios(
-    profile: RobotProfile, seed: int, n: int | None = None, cfg: DoEConfig | None = None
+    profile: RobotProfile,
+    seed: int,
+    n: int | None = None,
+    cfg: DoEConfig | None = None,
+    worlds: int = 1,
 ) -> list[Scenario]:
-    """The training DoE: one composite world of side ``profile.train_arena`` and ``n`` pairs.
+    """The training DoE: ``worlds`` composite worlds of side ``profile.train_arena`` and ``n``
+    start/goal pairs spread over them (the paper: one world).
 
-    ``n`` defaults to ``profile.train_scenarios``. The seed's generator spawns two children,
-    one for the world and one for the pairs, so the world does not depend on ``n`` and the
-    first k scenarios are the same for every ``n >= k``.
+    ``n`` defaults to ``profile.train_scenarios``; world ``j`` gets ``n // worlds`` pairs, one
+    more for ``j < n % worlds``, listed world by world. The seed's generator spawns two
+    children, one for the first world and one for its pairs, then two more per further world,
+    so the first world does not depend on ``worlds`` nor on ``n``, and with one world the first
+    k scenarios are the same for every ``n >= k``.
     """
     count = profile.train_scenarios if n is None else n
-    world_rng, pair_rng = np.random.default_rng(seed).spawn(2)
-    world = sample_world(profile.train_arena, world_rng, cfg)
-    named = World(world.size, world.obstacles, name=f"{profile.name}-train-seed{seed}")
-    return sample_scenarios(named, profile, count, pair_rng)
+    if worlds < 1:
+        raise ValueError(f"number of training worlds must be >= 1, got {worlds}")
+    if count < worlds:
+        raise ValueError(f"{count} scenarios cannot cover {worlds} training worlds")
+    parent = np.random.default_rng(seed)
+    rngs = parent.spawn(2) + parent.spawn(2 * (worlds - 1))
+    found: list[Scenario] = []
+    for j in range(worlds):
+        world = sample_world(profile.train_arena, rngs[2 * j], cfg)
+        suffix = "" if j == 0 else f"-world{j}"
+        named = World(world.size, world.obstacles, name=f"{profile.name}-train-seed{seed}{suffix}")
+        pairs = count // worlds + (j < count % worlds)
+        found += sample_scenarios(named, profile, pairs, rngs[2 * j + 1])
+    return found

@@ -237,19 +237,35 @@ def sensor_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
     return out
 
 
+def beam_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """Map-frame origin and direction of every ray of every beam: ``(n, s, beam_rays, 3)``.
+
+    Ray ``j`` of sensor ``i`` starts at the sensor's origin (:func:`sensor_frames`) and faces
+    its direction plus ``profile.beam_offsets[j]``.
+    """
+    frames = sensor_frames(poses, profile)
+    offsets = profile.beam_offsets
+    out = np.repeat(frames[:, :, None, :], offsets.shape[0], axis=2)
+    out[..., 2] += offsets
+    return out
+
+
 def sensor_readings(
     poses: ArrayLike, profile: RobotProfile, world: World, *, backend: Backend = "auto"
 ) -> FloatArray:
     """Range readings ``(n, n_sensors)`` (m, ``+inf`` beyond ``profile.sensor_range``).
 
-    Reading ``i`` comes from ``profile.sensors[i]`` placed by :func:`sensor_frames`.
+    Reading ``i`` comes from ``profile.sensors[i]``: the nearest hit of its beam's rays
+    (:func:`beam_frames`; one ray for a zero-width beam).
     """
     p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    frames = sensor_frames(p, profile)
+    frames = beam_frames(p, profile)
     # one robot's rays share a box culling: its mounts all lie within `reach` of its centre
     reach = max(float(np.hypot(m.x, m.y)) for m in profile.sensors)
     dist = _cast(
         frames[..., :2].reshape(-1, 2), frames[..., 2].reshape(-1), world.obstacles,
-        world.size, profile.sensor_range, backend, profile.n_sensors, p[:, :2], reach,
+        world.size, profile.sensor_range, backend, profile.n_sensors * profile.beam_rays,
+        p[:, :2], reach,
     )
-    return dist.reshape(frames.shape[:2])
+    readings: FloatArray = dist.reshape(frames.shape[:3]).min(axis=2)
+    return readings

@@ -60,12 +60,17 @@ class TrainerConfig:
         stage1_generations: multi-objective generations of the dual-stage framework.
         stage2_seed_fraction: share of stage 1's final population (best by F) seeding stage 2.
         n_scenarios: training scenarios (default: the profile's ``train_scenarios``).
-        scenario_seed: seed of the training world and its start/goal pairs.
+        scenario_seed: seed of the training worlds and their start/goal pairs.
+        training_worlds: composite worlds the scenarios are spread over (the paper: 1);
+            see ``mentor_core.scenarios.training_scenarios``.
         input_encoding: the network's goal inputs, ``"egocentric"`` (default) or ``"paper"``
             (``mentor_core.observation``); written into the best genome's metadata so that
             the planner node and mentor-eval feed the network the same way.
         heading_change_max_deg: limit of the heading-change action, degrees in (0, 180]
             (None: the robot profile's, 180 as in the paper); also written into the metadata.
+        step_max: the planner's largest step per decision, m, between the robot's step_min
+            and step_max (None: the robot's, as in the paper); the time budgets follow it
+            (``mentor_core.robots.with_planner``); also written into the metadata.
         evolution: the MENTOR evolution parameters (population, rates, speciation).
     """
 
@@ -76,8 +81,10 @@ class TrainerConfig:
     stage2_seed_fraction: float = 0.5
     n_scenarios: int | None = None
     scenario_seed: int = 0
+    training_worlds: int = 1
     input_encoding: str = "egocentric"
     heading_change_max_deg: float | None = None
+    step_max: float | None = None
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
 
     def __post_init__(self) -> None:
@@ -93,6 +100,10 @@ class TrainerConfig:
             raise ConfigError("must be in (0, 1]", key="stage2_seed_fraction")
         if self.n_scenarios is not None and self.n_scenarios < 1:
             raise ConfigError("must be at least 1", key="n_scenarios")
+        if isinstance(self.training_worlds, bool) or not 1 <= self.training_worlds <= (
+            self.n_scenarios or 1 << 30
+        ):
+            raise ConfigError("must be in [1, n_scenarios]", key="training_worlds")
         limit = self.heading_change_max_deg
         if limit is not None and (
             isinstance(limit, bool)
@@ -100,6 +111,12 @@ class TrainerConfig:
             or not 0.0 < limit <= 180.0
         ):
             raise ConfigError("must be null or in (0, 180] degrees", key="heading_change_max_deg")
+        if self.step_max is not None and (
+            isinstance(self.step_max, bool)
+            or not isinstance(self.step_max, int | float)
+            or not self.step_max > 0.0
+        ):
+            raise ConfigError("must be null or a positive number of m", key="step_max")
         if self.input_encoding not in INPUT_ENCODINGS:
             raise ConfigError(
                 f"must be one of {', '.join(INPUT_ENCODINGS)}", key="input_encoding"
@@ -278,8 +295,12 @@ def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> 
         profile or get_profile(config.robot),
         input_encoding=config.input_encoding,
         heading_change_max=None if limit is None else math.radians(limit),
+        step_max=config.step_max,
+        source="trainer config",
     )
-    scenarios = training_scenarios(prof, config.scenario_seed, config.n_scenarios)
+    scenarios = training_scenarios(
+        prof, config.scenario_seed, config.n_scenarios, worlds=config.training_worlds
+    )
     return NavigationProblem(prof, scenarios)
 
 
@@ -465,6 +486,7 @@ def train(
                 # what the network was trained with (the evaluator's problem), for planners
                 "input_encoding": problem.profile.input_encoding,
                 "heading_change_max": problem.profile.heading_change_max,
+                "step_max": problem.profile.step_max,
                 "framework": config.framework,
                 "seed": seed,
                 "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),

@@ -1,0 +1,27 @@
+"""Robot profiles with hand-checkable sensor geometry, for tests that compute ranges by hand."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from mentor_core.robots import RobotProfile, get_profile
+
+
+def facing_straight_out(profile: RobotProfile) -> RobotProfile:
+    """``profile`` with each sensor facing along the outward normal of the body edge it sits on
+    (a pair on an edge then looks the same way), so a range is a plain difference of
+    coordinates."""
+
+    def normal(x: float, y: float) -> float:
+        if math.isclose(abs(x), profile.length / 2):
+            return 0.0 if x > 0 else math.pi
+        return math.pi / 2 if y > 0 else -math.pi / 2
+
+    mounts = tuple(dataclasses.replace(m, angle=normal(m.x, m.y)) for m in profile.sensors)
+    return dataclasses.replace(profile, sensors=mounts)
+
+
+#: the UGV with each pair facing straight out of its edge: front pair 0 rad, left pair pi/2,
+#: rear pair pi, right pair -pi/2
+UGV_STRAIGHT = facing_straight_out(get_profile("ugv"))
