@@ -16,7 +16,6 @@ clipped to the sensor range and ``A = (dtheta, ds)``.
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -72,17 +71,27 @@ def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
     """Indices of the scenarios of each distinct world, in order of first appearance."""
     if not scenarios:
         raise ValueError("run_episodes needs at least one scenario")
-    firsts: list[Scenario] = []
-    members: list[list[int]] = []
-    for i, sc in enumerate(scenarios):
-        for first, group in zip(firsts, members, strict=True):
-            if sc.world is first.world or sc.world == first.world:
-                group.append(i)
+    worlds = [sc.world for sc in scenarios]
+    if all(w is worlds[0] for w in worlds):  # the common case: one world object
+        return [np.arange(len(worlds), dtype=np.int64)]
+    # by identity first, in one vectorised pass; then equal worlds that are different
+    # objects are merged
+    ids = np.fromiter(map(id, worlds), dtype=np.uint64, count=len(worlds))
+    _, first, inverse = np.unique(ids, return_index=True, return_inverse=True)
+    label = np.empty(first.shape[0], dtype=np.int64)
+    reps: list[int] = []  # first scenario of each distinct world, in order of appearance
+    for k in np.argsort(first, kind="stable").tolist():
+        for j, rep in enumerate(reps):
+            if worlds[int(first[k])] == worlds[rep]:
+                label[k] = j
                 break
         else:
-            firsts.append(sc)
-            members.append([i])
-    return [np.asarray(group, dtype=np.int64) for group in members]
+            label[k] = len(reps)
+            reps.append(int(first[k]))
+    group = label[inverse.reshape(-1)]
+    order = np.argsort(group, kind="stable")
+    bounds = np.cumsum(np.bincount(group, minlength=len(reps)))[:-1]
+    return [chunk.astype(np.int64) for chunk in np.split(order, bounds)]
 
 
 def _decision_limits(
@@ -103,22 +112,6 @@ def _decision_limits(
             raise ValueError(f"max_steps must be >= 0, got {max_steps}")
         allowed = np.minimum(allowed, max_steps)
     return budget, allowed
-
-
-def _group_experience(
-    chunks: list[FloatArray], owners: list[IntArray], n: int, width: int
-) -> tuple[FloatArray, ...]:
-    """Split the per-step experience rows into one array per robot, in decision order."""
-    if not chunks:
-        return tuple(np.zeros((0, width), dtype=np.float64) for _ in range(n))
-    rows = np.concatenate(chunks, axis=0)
-    owner = np.concatenate(owners)
-    # stable: keeps each robot's decisions in order; 16-bit keys sort by radix, in linear time
-    key = owner.astype(np.int16) if n <= np.iinfo(np.int16).max else owner
-    order = np.argsort(key, kind="stable")
-    bounds = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n))]).tolist()
-    grouped = rows[order]
-    return tuple(grouped[lo:hi] for lo, hi in itertools.pairwise(bounds))
 
 
 def run_episodes(
@@ -203,8 +196,11 @@ def _run_world(
     active = ~reached & (allowed > 0)
     ranges = engine.observe()
     trajectory = [engine.poses.copy()]
-    chunks: list[FloatArray] = []
-    owners: list[IntArray] = []
+    # robot i's experience rows fill rows first[i], first[i] + 1, ... of one buffer, room for
+    # the allowed[i] decisions it may take: grouped as they are written, nothing to sort
+    first = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(allowed, out=first[1:])
+    experience = np.empty((int(first[-1]), 2 * profile.n_sensors + 2), dtype=np.float64)
     zeros = np.zeros(n, dtype=np.float64)
 
     while active.any():
@@ -217,8 +213,9 @@ def _run_world(
         result = engine.step(dtheta_all, ds_all, active)
         after = engine.observe(idx)
         action = np.stack([dth, ds], axis=1)
-        chunks.append(observation.experience_point(ranges[idx], action, after, profile))
-        owners.append(idx)
+        experience[first[idx] + steps[idx]] = observation.experience_point(
+            ranges[idx], action, after, profile
+        )
         ranges[idx] = after
         steps[idx] += 1
         time_used[idx] += np.where(result.reached[idx], result.fraction[idx], 1.0) * dt
@@ -236,5 +233,8 @@ def _run_world(
         final_distance=engine.goal_distance(),
         steps=steps,
         trajectories=np.stack(trajectory, axis=1),
-        experience=_group_experience(chunks, owners, n, 2 * profile.n_sensors + 2),
+        experience=tuple(
+            experience[lo : lo + k]
+            for lo, k in zip(first[:-1].tolist(), steps.tolist(), strict=True)
+        ),
     )

@@ -259,7 +259,8 @@ def sensor_readings(
     (:func:`beam_frames`; one ray for a zero-width beam).
     """
     p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    frames = beam_frames(p, profile)
+    # a single ray per sensor needs no beam bookkeeping (the common case, and the same numbers)
+    frames = sensor_frames(p, profile) if profile.beam_rays == 1 else beam_frames(p, profile)
     # one robot's rays share a box culling: its mounts all lie within `reach` of its centre
     reach = max(float(np.hypot(m.x, m.y)) for m in profile.sensors)
     dist = _cast(
@@ -267,5 +268,7 @@ def sensor_readings(
         world.size, profile.sensor_range, backend, profile.n_sensors * profile.beam_rays,
         p[:, :2], reach,
     )
+    if profile.beam_rays == 1:
+        return dist.reshape(frames.shape[:2])
     readings: FloatArray = dist.reshape(frames.shape[:3]).min(axis=2)
     return readings
