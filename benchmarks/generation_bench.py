@@ -1,12 +1,14 @@
 """Seconds per paper-scale generation: simulation plus experience gain, per backend.
 
     .venv/bin/python benchmarks/generation_bench.py [--robot ugv] [--genomes 100]
-        [--scenarios 80] [--repeats 2] [--workers 1 2]
+        [--scenarios 80] [--repeats 2] [--workers 1 2] [--step-max M]
 
 A generation is every genome on every training scenario in the batched engine (up to the
 scenario's time budget, 50 decisions at most), then one Euclidean MST per genome over its
 experience points. Genomes are evolved-looking: minimal genomes put through a few rounds of
-the paper's mutation so they carry hidden nodes. Prints JSON.
+the paper's mutation so they carry hidden nodes. ``--step-max`` runs the planners with a
+shorter step, as the shipped UGV training configs do (``step_max: 0.5``; longer episodes).
+Prints JSON.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from mentor_core.evaluators import make_evaluator
 from mentor_core.genome import Genome
 from mentor_core.mutation import mutated_genomes
 from mentor_core.problem import NavigationProblem
-from mentor_core.robots import get_profile
+from mentor_core.robots import get_profile, with_planner
 from mentor_core.scenarios import training_scenarios
 
 
@@ -41,14 +43,16 @@ def main() -> None:
     p.add_argument("--repeats", type=int, default=2)
     p.add_argument("--rounds", type=int, default=10, help="mutation rounds per genome")
     p.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    p.add_argument("--step-max", type=float, help="the planners' largest step (m)")
     args = p.parse_args()
 
-    profile = get_profile(args.robot)
+    profile = with_planner(get_profile(args.robot), step_max=args.step_max)
     scenarios = training_scenarios(profile, 0, args.scenarios)
     genomes = evolved_looking(args.genomes, profile.n_inputs, args.robot, args.rounds, 1)
     problem = NavigationProblem(profile, scenarios)
     out: dict[str, object] = {
         "robot": args.robot,
+        "step_max": profile.step_max,
         "genomes": args.genomes,
         "scenarios": args.scenarios,
         "mean_hidden_nodes": float(np.mean([len(g.hidden_nodes) for g in genomes])),
