@@ -16,7 +16,7 @@ from mentor_core.genome_io import save_genome
 from mentor_core.observation import action_from_twist
 from mentor_core.planning import GenomePlanner, planner_profile
 from mentor_core.recording import record_planners, recorded_episodes
-from mentor_core.robots import get_profile
+from mentor_core.robots import get_profile, sensor_record
 
 ROOT = Path(__file__).resolve().parents[1]
 UNSEEN_SWARM = ROOT / "bags" / "unseen" / "swarm"
@@ -43,6 +43,11 @@ def test_a_genome_plans_with_the_encoding_its_metadata_names() -> None:
     assert planner_profile(SWARM, {"step_max": 0.04}).step_max == 0.04
     with pytest.raises(ConfigError, match=r"g\.json: step_max"):
         planner_profile(SWARM, {"step_max": 1.0}, "g.json")
+    trained = sensor_record(SWARM)
+    assert planner_profile(SWARM, {"sensors": trained}) == planner_profile(SWARM, {})
+    trained["sensor_range"] = 0.5  # trained on another robot file
+    with pytest.raises(ConfigError, match=r"g\.json: sensors: .*other sensors"):
+        planner_profile(SWARM, {"sensors": trained}, "g.json")
 
 
 def test_recorded_episodes_are_the_reference_episodes(tmp_path: Path) -> None:

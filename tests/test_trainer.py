@@ -12,6 +12,7 @@ import pytest
 from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.evaluators import InProcessEvaluator, PoolEvaluator
 from mentor_core.genome_io import load_genome_and_metadata
+from mentor_core.robots import sensor_record
 from mentor_core.trainer import TrainerConfig, load_population, make_problem, train
 
 TINY = {
@@ -62,6 +63,7 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
     narrow = make_problem(tiny(heading_change_max_deg=45)).profile
     assert narrow.heading_change_max == pytest.approx(np.pi / 4)
     assert meta["step_max"] == make_problem(tiny()).profile.step_max
+    assert meta["sensors"] == sensor_record(make_problem(tiny()).profile)
     assert make_problem(tiny(step_max=0.04)).profile.step_max == 0.04
     with pytest.raises(ConfigError, match="step_max"):  # beyond the robot's own
         make_problem(tiny(step_max=1.0))
@@ -98,6 +100,24 @@ def test_existing_run_is_not_overwritten_without_resume(dual_run: Path) -> None:
 def test_resume_with_another_seed_is_refused(dual_run: Path) -> None:
     with pytest.raises(FileFormatError, match="different config or seed"):
         train(tiny(), dual_run, seed=4, resume=True)
+
+
+def test_resume_checks_the_sensors_and_takes_older_checkpoints(
+    dual_run: Path, tmp_path: Path
+) -> None:
+    train(tiny(), tmp_path, seed=3, stop_after=1)
+    checkpoint = tmp_path / "checkpoint.json"
+    state = json.loads(checkpoint.read_text())
+    assert state["sensors"] == sensor_record(make_problem(tiny()).profile)
+    state["sensors"]["sensors"][0][2] += 0.1  # a mount turned since
+    checkpoint.write_text(json.dumps(state))
+    with pytest.raises(FileFormatError, match="other robot sensors"):
+        train(tiny(), tmp_path, seed=3, resume=True)
+    # written before the sensor record and the newer config keys: resumed as it was meant
+    del state["sensors"], state["config"]["training_worlds"], state["config"]["step_max"]
+    checkpoint.write_text(json.dumps(state))
+    train(tiny(), tmp_path, seed=3, resume=True)
+    assert without_seconds(history_rows(tmp_path)) == without_seconds(history_rows(dual_run))
 
 
 def test_pool_backend_is_bit_identical_to_in_process() -> None:

@@ -42,7 +42,7 @@ from mentor_core.errors import ConfigError
 from mentor_core.genome import Genome
 from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.network import FeedForwardNetwork
-from mentor_core.robots import RobotProfile, get_profile, with_planner
+from mentor_core.robots import RobotProfile, get_profile, sensor_record, with_planner
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -57,8 +57,18 @@ def planner_profile(
     (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad) and
     ``step_max`` (m; each the profile's when absent).
 
-    ConfigError naming ``source`` for a bad value.
+    ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
+    (:func:`mentor_core.robots.sensor_record`; absent in genomes saved before it existed)
+    differs from the profile's: such a genome was trained with other sensors.
     """
+    trained = metadata.get("sensors")
+    if trained is not None and trained != sensor_record(profile):
+        raise ConfigError(
+            f"the genome was trained with other sensors than robot {profile.name!r} has now "
+            "(mounts, range or beam; was the robot file changed?)",
+            key="sensors",
+            path=source or None,
+        )
     return with_planner(
         profile,
         input_encoding=metadata.get("input_encoding", "paper"),

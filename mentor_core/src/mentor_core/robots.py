@@ -217,6 +217,21 @@ def with_planner(
     return dataclasses.replace(profile, **changes)
 
 
+def sensor_record(profile: RobotProfile) -> dict[str, Any]:
+    """What a planner's readings depend on, as plain JSON values: the mounts ``[x, y, angle]``
+    (m, m, rad) in reading order, the range (m) and the beam (rad, rays).
+
+    Written with a trained genome and a checkpoint, so that a planner is never run, nor a run
+    resumed, with sensors other than those it was trained with.
+    """
+    return {
+        "sensors": [[m.x, m.y, m.angle] for m in profile.sensors],
+        "sensor_range": profile.sensor_range,
+        "beam_width": profile.beam_width,
+        "beam_rays": profile.beam_rays,
+    }
+
+
 def body_corners(profile: RobotProfile, poses: ArrayLike) -> NDArray[np.float64]:
     """Map-frame corners of the body at each pose: (n, 3) poses -> (n, 4, 2), m.
 

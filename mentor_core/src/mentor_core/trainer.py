@@ -36,12 +36,20 @@ from mentor_core.genome import Genome
 from mentor_core.genome_io import genome_from_dict, genome_to_dict, save_genome
 from mentor_core.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
 from mentor_core.ranking import non_dominated_ranks
-from mentor_core.robots import INPUT_ENCODINGS, RobotProfile, get_profile, with_planner
+from mentor_core.robots import (
+    INPUT_ENCODINGS,
+    RobotProfile,
+    get_profile,
+    sensor_record,
+    with_planner,
+)
 from mentor_core.scenarios import training_scenarios
 
 Framework = Literal["single", "dual"]
 CHECKPOINT_FORMAT = "mentor-train-checkpoint"
 CHECKPOINT_VERSION = 1
+# config keys added after checkpoint version 1 came out, with the value their absence meant
+_CONFIG_KEYS_ADDED: dict[str, Any] = {"training_worlds": 1, "step_max": None}
 HISTORY_FIELDS = (
     "generation", "stage", "mode", "evaluations", "best_F", "mean_F", "best_G", "mean_G",
     "species", "largest_niche_share", "niche_sizes", "best_success_rate",
@@ -366,6 +374,7 @@ class _Run:
             "version": CHECKPOINT_VERSION,
             "seed": self.seed,
             "config": self.config.to_dict(),
+            "sensors": sensor_record(self.problem.profile),
             "generation": self.generation,
             "evolution": self.evolution.to_state(),
             "history": _history_csv(self.history),
@@ -376,8 +385,13 @@ class _Run:
             raise FileFormatError(path, f"not a {CHECKPOINT_FORMAT} file")
         if not is_version(state.get("version"), CHECKPOINT_VERSION):
             raise FileFormatError(path, f"unsupported version {state.get('version')!r}")
-        if state.get("config") != self.config.to_dict() or state.get("seed") != self.seed:
+        # keys added since a checkpoint was written, whose absence meant these values
+        saved = {**_CONFIG_KEYS_ADDED, **(state.get("config") or {})}
+        if saved != self.config.to_dict() or state.get("seed") != self.seed:
             raise FileFormatError(path, "checkpoint was written by a different config or seed")
+        sensors = state.get("sensors")  # absent in checkpoints written before the record
+        if sensors is not None and sensors != sensor_record(self.problem.profile):
+            raise FileFormatError(path, "checkpoint was written with other robot sensors")
         try:
             self.evolution = Evolution.from_state(state["evolution"])
             self.generation = int(state["generation"])
@@ -487,6 +501,7 @@ def train(
                 "input_encoding": problem.profile.input_encoding,
                 "heading_change_max": problem.profile.heading_change_max,
                 "step_max": problem.profile.step_max,
+                "sensors": sensor_record(problem.profile),
                 "framework": config.framework,
                 "seed": seed,
                 "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),
