@@ -16,6 +16,7 @@ clipped to the sensor range and ``A = (dtheta, ds)``.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -114,6 +115,22 @@ def _decision_limits(
     return budget, allowed
 
 
+def _group_experience(
+    chunks: list[FloatArray], owners: list[IntArray], n: int, width: int
+) -> tuple[FloatArray, ...]:
+    """Split the per-step experience rows into one array per robot, in decision order."""
+    if not chunks:
+        return tuple(np.zeros((0, width), dtype=np.float64) for _ in range(n))
+    rows = np.concatenate(chunks, axis=0)
+    owner = np.concatenate(owners)
+    # stable: keeps each robot's decisions in order; 16-bit keys sort by radix, in linear time
+    key = owner.astype(np.int16) if n <= np.iinfo(np.int16).max else owner
+    order = np.argsort(key, kind="stable")
+    bounds = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n))]).tolist()
+    grouped = rows[order]
+    return tuple(grouped[lo:hi] for lo, hi in itertools.pairwise(bounds))
+
+
 def run_episodes(
     scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy, *,
     time_budgets: ArrayLike | None = None, max_steps: int | None = None,
@@ -129,7 +146,8 @@ def run_episodes(
         scenarios: start/goal pairs, in one world or several.
         profile: the robot.
         policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, 2)``, called
-            once per control period for the ``m`` still-active robots (indices ascending).
+            once per control period (and world) for the ``m`` still-active robots (indices
+            into ``scenarios``, ascending).
         time_budgets: per-scenario T_tot (s) instead of ``profile.time_budget``.
         max_steps: cap on the decisions of every robot.
         backend: kernel backend of the engine.
@@ -196,11 +214,8 @@ def _run_world(
     active = ~reached & (allowed > 0)
     ranges = engine.observe()
     trajectory = [engine.poses.copy()]
-    # robot i's experience rows fill rows first[i], first[i] + 1, ... of one buffer, room for
-    # the allowed[i] decisions it may take: grouped as they are written, nothing to sort
-    first = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(allowed, out=first[1:])
-    experience = np.empty((int(first[-1]), 2 * profile.n_sensors + 2), dtype=np.float64)
+    chunks: list[FloatArray] = []
+    owners: list[IntArray] = []
     zeros = np.zeros(n, dtype=np.float64)
 
     while active.any():
@@ -213,9 +228,8 @@ def _run_world(
         result = engine.step(dtheta_all, ds_all, active)
         after = engine.observe(idx)
         action = np.stack([dth, ds], axis=1)
-        experience[first[idx] + steps[idx]] = observation.experience_point(
-            ranges[idx], action, after, profile
-        )
+        chunks.append(observation.experience_point(ranges[idx], action, after, profile))
+        owners.append(idx)
         ranges[idx] = after
         steps[idx] += 1
         time_used[idx] += np.where(result.reached[idx], result.fraction[idx], 1.0) * dt
@@ -233,8 +247,5 @@ def _run_world(
         final_distance=engine.goal_distance(),
         steps=steps,
         trajectories=np.stack(trajectory, axis=1),
-        experience=tuple(
-            experience[lo : lo + k]
-            for lo, k in zip(first[:-1].tolist(), steps.tolist(), strict=True)
-        ),
+        experience=_group_experience(chunks, owners, n, 2 * profile.n_sensors + 2),
     )
