@@ -28,6 +28,8 @@ ROS_DOMAIN_ID = ROS_DOMAIN_BASE + _worker_number()
 os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
 os.environ["ROS_DOMAIN_ID"] = str(ROS_DOMAIN_ID)
 os.environ.pop("ROS_STATIC_PEERS", None)
+# the tests are about the shipped robot file, whatever file a developer's shell names
+os.environ.pop("MENTOR_ROBOTS", None)
 
 
 @pytest.fixture

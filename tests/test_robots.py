@@ -11,7 +11,14 @@ import pytest
 import yaml
 
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.robots import body_corners, default_profiles_path, get_profile, load_profiles
+from mentor_core.robots import (
+    ROBOTS_ENV,
+    body_corners,
+    default_profiles_path,
+    get_profile,
+    load_profiles,
+    shipped_profiles_path,
+)
 
 
 def test_default_profiles_follow_the_design_brief() -> None:
@@ -82,7 +89,7 @@ def test_get_profile_unknown_name() -> None:
 
 
 def _default_doc() -> dict[str, Any]:
-    doc = yaml.safe_load(default_profiles_path().read_text())
+    doc = yaml.safe_load(shipped_profiles_path().read_text())
     assert isinstance(doc, dict)
     return doc
 
@@ -178,3 +185,24 @@ def test_a_beam_is_read_from_the_file_and_sampled_evenly(tmp_path: Path) -> None
     assert ugv.beam_width == pytest.approx(math.radians(30.0)) and ugv.beam_rays == 3
     np.testing.assert_allclose(ugv.beam_offsets, np.radians([-15.0, 0.0, 15.0]))
     np.testing.assert_array_equal(get_profile("ugv").beam_offsets, [0.0])
+
+
+def test_mentor_robots_names_the_robot_file_in_use(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    doc = _default_doc()
+    for mount in doc["robots"]["ugv"]["sensors"]:  # the paper's pairs, facing straight out
+        mount["angle_deg"] = 90.0 * round(mount["angle_deg"] / 90.0)
+    path = tmp_path / "paper_robots.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    monkeypatch.setenv(ROBOTS_ENV, str(path))
+    assert default_profiles_path() == path
+    assert [round(math.degrees(m.angle)) for m in get_profile("ugv").sensors] == [
+        0, 0, 90, 90, 180, 180, 270, 270
+    ]
+    assert get_profile("swarm") == load_profiles(shipped_profiles_path())["swarm"]
+    monkeypatch.setenv(ROBOTS_ENV, str(tmp_path / "missing.yaml"))
+    with pytest.raises(FileFormatError, match=r"missing\.yaml: cannot read"):
+        get_profile("ugv")
+    monkeypatch.delenv(ROBOTS_ENV)
+    assert default_profiles_path() == shipped_profiles_path()

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib import resources
@@ -32,6 +33,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.errors import ConfigError, FileFormatError, is_version
 
+#: environment variable that names a robot file to use instead of the shipped one
+ROBOTS_ENV = "MENTOR_ROBOTS"
 PROFILES_FORMAT = "mentor-robots"
 PROFILES_VERSION = 1
 #: the network input encodings of ``mentor_core.observation``
@@ -245,13 +248,24 @@ def body_corners(profile: RobotProfile, poses: ArrayLike) -> NDArray[np.float64]
     return np.stack([x, y], axis=-1)
 
 
-def default_profiles_path() -> Path:
+def shipped_profiles_path() -> Path:
     """Path of the robot file shipped with mentor_core."""
     return Path(str(resources.files("mentor_core").joinpath("data/robots.yaml")))
 
 
+def default_profiles_path() -> Path:
+    """The robot file in use: the one ``$MENTOR_ROBOTS`` names, else the shipped one.
+
+    One variable, read by the trainer (and its workers), mentor-eval, mentor-report and both
+    ROS nodes alike, so that all of them simulate and plan for the same robots (e.g. the
+    paper's UGV with its sensor pairs facing straight out, docs/algorithm.md "Sensors").
+    """
+    chosen = os.environ.get(ROBOTS_ENV, "")
+    return Path(chosen) if chosen else shipped_profiles_path()
+
+
 def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
-    """Read and validate every profile of a robot file (default: the shipped one).
+    """Read and validate every profile of a robot file (default: :func:`default_profiles_path`).
 
     Raises:
         FileFormatError: the file is missing, not YAML, or of another format or version.
