@@ -42,7 +42,13 @@ from mentor_core.errors import ConfigError
 from mentor_core.genome import Genome
 from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.network import FeedForwardNetwork
-from mentor_core.robots import RobotProfile, get_profile, sensor_record, with_planner
+from mentor_core.robots import (
+    ROBOTS_ENV,
+    RobotProfile,
+    get_profile,
+    sensor_record,
+    with_planner,
+)
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -65,7 +71,8 @@ def planner_profile(
     if trained is not None and trained != sensor_record(profile):
         raise ConfigError(
             f"the genome was trained with other sensors than robot {profile.name!r} has now "
-            "(mounts, range or beam; was the robot file changed?)",
+            f"(mounts, range or beam); use the robot file it was trained with (${ROBOTS_ENV} "
+            "names the file in use)",
             key="sensors",
             path=source or None,
         )
