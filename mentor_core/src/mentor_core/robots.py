@@ -21,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -191,33 +191,29 @@ def with_planner(
             )
         changes["input_encoding"] = str(input_encoding)
     if heading_change_max is not None:
-        limit = heading_change_max
-        if (
-            isinstance(limit, bool)
-            or not isinstance(limit, int | float)
-            or not 0.0 < float(limit) <= math.pi + 1e-12
-        ):
-            raise ConfigError(
-                f"must be a number in (0, pi] rad, got {limit!r}",
-                key="heading_change_max",
-                path=where,
-            )
-        changes["heading_change_max"] = min(float(limit), math.pi)
+        limit = _planner_number(
+            heading_change_max, lambda v: 0.0 < v <= math.pi + 1e-12, "(0, pi] rad",
+            "heading_change_max", where,
+        )  # fmt: skip
+        changes["heading_change_max"] = min(limit, math.pi)
     if step_max is not None:
-        if (
-            isinstance(step_max, bool)
-            or not isinstance(step_max, int | float)
-            or not profile.step_min <= float(step_max) <= profile.step_max
-        ):
-            raise ConfigError(
-                f"must be a number in [{profile.step_min}, {profile.step_max}] m, "
-                f"got {step_max!r}",
-                key="step_max",
-                path=where,
-            )
-        changes["step_max"] = float(step_max)
-        changes["rated_speed"] = profile.rated_speed * float(step_max) / profile.step_max
+        step = _planner_number(
+            step_max, lambda v: profile.step_min <= v <= profile.step_max,
+            f"[{profile.step_min}, {profile.step_max}] m", "step_max", where,
+        )  # fmt: skip
+        changes["step_max"] = step
+        changes["rated_speed"] = profile.rated_speed * step / profile.step_max
     return dataclasses.replace(profile, **changes)
+
+
+def _planner_number(
+    value: object, ok: Callable[[float], bool], allowed: str, key: str, where: str | Path | None
+) -> float:
+    """``value`` as a float when it is a number (not a bool) that ``ok`` accepts, else a
+    ConfigError naming ``key`` and the ``allowed`` range."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not ok(float(value)):
+        raise ConfigError(f"must be a number in {allowed}, got {value!r}", key=key, path=where)
+    return float(value)
 
 
 def sensor_record(profile: RobotProfile) -> dict[str, Any]:
