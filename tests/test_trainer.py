@@ -69,6 +69,8 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
         make_problem(tiny(step_max=1.0))
     spread = make_problem(tiny(training_worlds=2)).scenarios
     assert len({sc.world.name for sc in spread}) == 2
+    with pytest.raises(ConfigError, match="training_worlds"):  # the Swarm-Robot's 20 scenarios
+        make_problem(tiny(n_scenarios=None, training_worlds=21))
     pareto = json.loads((dual_run / "pareto.json").read_text())
     assert pareto["front"] and len(pareto["points"]) == 8
 

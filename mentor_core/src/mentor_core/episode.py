@@ -28,7 +28,7 @@ from mentor_core import observation
 from mentor_core.engine import BatchEngine
 from mentor_core.robots import RobotProfile
 from mentor_core.sensors import Backend
-from mentor_core.world import Scenario
+from mentor_core.world import Scenario, World
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -75,24 +75,19 @@ def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
     worlds = [sc.world for sc in scenarios]
     if all(w is worlds[0] for w in worlds):  # the common case: one world object
         return [np.arange(len(worlds), dtype=np.int64)]
-    # by identity first, in one vectorised pass; then equal worlds that are different
-    # objects are merged
-    ids = np.fromiter(map(id, worlds), dtype=np.uint64, count=len(worlds))
-    _, first, inverse = np.unique(ids, return_index=True, return_inverse=True)
-    label = np.empty(first.shape[0], dtype=np.int64)
-    reps: list[int] = []  # first scenario of each distinct world, in order of appearance
-    for k in np.argsort(first, kind="stable").tolist():
-        for j, rep in enumerate(reps):
-            if worlds[int(first[k])] == worlds[rep]:
-                label[k] = j
-                break
-        else:
-            label[k] = len(reps)
-            reps.append(int(first[k]))
-    group = label[inverse.reshape(-1)]
-    order = np.argsort(group, kind="stable")
-    bounds = np.cumsum(np.bincount(group, minlength=len(reps)))[:-1]
-    return [chunk.astype(np.int64) for chunk in np.split(order, bounds)]
+    distinct: list[World] = []
+    group_of: dict[int, int] = {}  # id of a world object -> its group (equal worlds share one)
+    label = np.empty(len(worlds), dtype=np.int64)
+    for i, w in enumerate(worlds):
+        if id(w) not in group_of:
+            same = [j for j, d in enumerate(distinct) if d == w]
+            group_of[id(w)] = same[0] if same else len(distinct)
+            if not same:
+                distinct.append(w)
+        label[i] = group_of[id(w)]
+    order = np.argsort(label, kind="stable")
+    bounds = np.cumsum(np.bincount(label))[:-1]
+    return np.split(order, bounds)
 
 
 def _decision_limits(

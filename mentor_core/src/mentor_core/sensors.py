@@ -241,12 +241,13 @@ def beam_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
     """Map-frame origin and direction of every ray of every beam: ``(n, s, beam_rays, 3)``.
 
     Ray ``j`` of sensor ``i`` starts at the sensor's origin (:func:`sensor_frames`) and faces
-    its direction plus ``profile.beam_offsets[j]``.
+    its direction plus ``profile.beam_offsets[j]``; a single-ray sensor's one ray is its frame.
     """
-    frames = sensor_frames(poses, profile)
-    offsets = profile.beam_offsets
-    out = np.repeat(frames[:, :, None, :], offsets.shape[0], axis=2)
-    out[..., 2] += offsets
+    frames = sensor_frames(poses, profile)[:, :, None, :]
+    if profile.beam_rays == 1:
+        return frames
+    out = np.repeat(frames, profile.beam_rays, axis=2)
+    out[..., 2] += profile.beam_offsets
     return out
 
 
@@ -259,8 +260,7 @@ def sensor_readings(
     (:func:`beam_frames`; one ray for a zero-width beam).
     """
     p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    # a single ray per sensor needs no beam bookkeeping (the common case, and the same numbers)
-    frames = sensor_frames(p, profile) if profile.beam_rays == 1 else beam_frames(p, profile)
+    frames = beam_frames(p, profile)
     # one robot's rays share a box culling: its mounts all lie within `reach` of its centre
     reach = max(float(np.hypot(m.x, m.y)) for m in profile.sensors)
     dist = _cast(
@@ -268,7 +268,5 @@ def sensor_readings(
         world.size, profile.sensor_range, backend, profile.n_sensors * profile.beam_rays,
         p[:, :2], reach,
     )
-    if profile.beam_rays == 1:
-        return dist.reshape(frames.shape[:2])
     readings: FloatArray = dist.reshape(frames.shape[:3]).min(axis=2)
     return readings

@@ -108,8 +108,12 @@ class TrainerConfig:
             raise ConfigError("must be in (0, 1]", key="stage2_seed_fraction")
         if self.n_scenarios is not None and self.n_scenarios < 1:
             raise ConfigError("must be at least 1", key="n_scenarios")
-        if isinstance(self.training_worlds, bool) or not 1 <= self.training_worlds <= (
-            self.n_scenarios or 1 << 30
+        # the bound by the robot's own scenario count is checked by make_problem
+        if (
+            isinstance(self.training_worlds, bool)
+            or not isinstance(self.training_worlds, int)
+            or self.training_worlds < 1
+            or (self.n_scenarios is not None and self.training_worlds > self.n_scenarios)
         ):
             raise ConfigError("must be in [1, n_scenarios]", key="training_worlds")
         limit = self.heading_change_max_deg
@@ -306,8 +310,15 @@ def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> 
         step_max=config.step_max,
         source="trainer config",
     )
+    count = config.n_scenarios or prof.train_scenarios
+    if config.training_worlds > count:
+        raise ConfigError(
+            f"{count} training scenarios cannot cover {config.training_worlds} worlds",
+            key="training_worlds",
+            path="trainer config",
+        )
     scenarios = training_scenarios(
-        prof, config.scenario_seed, config.n_scenarios, worlds=config.training_worlds
+        prof, config.scenario_seed, count, worlds=config.training_worlds
     )
     return NavigationProblem(prof, scenarios)
 
