@@ -1,0 +1,76 @@
+"""Where ``NavigationProblem.simulate`` spends its time, stage by stage, on a paper-scale batch.
+
+    export NUMBA_CACHE_DIR=.venv/numba-cache
+    cd benchmarks && ../.venv/bin/python simulate_stages.py [--repeats 10]
+
+The genomes and scenarios of ``throughput_vs_neat.py`` (100 evolved-looking UGV genomes x 80
+training scenarios, the robot's own 2 m steps). Wall-clock timers wrap the stages of an episode
+step (the engine's step and observe, the network's compile and activate, inputs, actions,
+experience points, the ray-cast kernel and the sensor frames inside observe); each stage's
+share is of the whole ``simulate`` (mean of ``--repeats`` runs after a warm-up). The timers
+add a few microseconds per call. Prints one JSON object.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections import defaultdict
+from collections.abc import Callable
+from typing import Any
+
+from generation_bench import evolved_looking
+
+from mentor_core import batch_network, engine, observation, sensors
+from mentor_core.problem import NavigationProblem
+from mentor_core.robots import get_profile
+from mentor_core.scenarios import training_scenarios
+
+STAGES = (
+    (engine.BatchEngine, "step", "engine step (arc, swept collision, goal)"),
+    (engine.BatchEngine, "observe", "observe (all sensor work)"),
+    (sensors, "_cast_numba", "  of which ray-cast kernel"),
+    (sensors, "sensor_frames", "  of which sensor frames"),
+    (batch_network.BatchNetwork, "activate", "network activate"),
+    (batch_network.BatchNetwork, "from_genomes", "network compile"),
+    (observation, "network_inputs", "network inputs"),
+    (observation, "actions_from_outputs", "actions"),
+    (observation, "experience_point", "experience points"),
+)
+
+
+def timed(seconds: dict[str, float], label: str, f: Callable[..., Any]) -> Callable[..., Any]:
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        t0 = time.perf_counter()
+        try:
+            return f(*args, **kwargs)
+        finally:
+            seconds[label] += time.perf_counter() - t0
+
+    return wrapper
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--repeats", type=int, default=10)
+    args = p.parse_args()
+    profile = get_profile("ugv")
+    problem = NavigationProblem(profile, training_scenarios(profile, 0))
+    genomes = evolved_looking(100, profile.n_inputs, "ugv", 10, 0)
+    seconds: dict[str, float] = defaultdict(float)
+    for owner, name, label in STAGES:
+        if getattr(owner, name, None) is not None:  # the kernel is None without numba
+            setattr(owner, name, timed(seconds, label, getattr(owner, name)))
+    problem.simulate(genomes)  # warm-up
+    seconds.clear()
+    t0 = time.perf_counter()
+    for _ in range(args.repeats):
+        problem.simulate(genomes)
+    total = (time.perf_counter() - t0) / args.repeats
+    shares = {label: round(seconds[label] / args.repeats / total, 3) for _, _, label in STAGES}
+    print(json.dumps({"simulate_seconds": total, "share_of_simulate": shares}, indent=2))
+
+
+if __name__ == "__main__":
+    main()
