@@ -32,9 +32,11 @@ from mentor_core.bagio import read_scenario_bag
 from mentor_core.cli.train import resolve_config
 from mentor_core.evaluators import InProcessEvaluator
 from mentor_core.robots import get_profile
+from mentor_core.scenarios import training_scenarios
 from mentor_core.trainer import TrainerConfig, make_problem, train
 
 ROOT = Path(__file__).resolve().parents[1]
+HELDOUT_SEED = 999  # training DoEs use the config's scenario seed (0); this one no run sees
 
 
 def apply(config: dict[str, Any], assignment: str) -> None:
@@ -60,6 +62,10 @@ def main() -> None:
     p.add_argument("--robots", type=Path, help="robot file to take the profile from")
     p.add_argument("--unseen", help="robot whose unseen bag to test on (default: --robot)")
     p.add_argument("--out", type=Path, help="run directory (default: a temporary one)")
+    p.add_argument(
+        "--heldout", type=int, default=100, metavar="N",
+        help="also test on N pairs in 4 held-out DoE worlds (seed 999; 0: skip)",
+    )  # fmt: skip
     args = p.parse_args()
 
     data = resolve_config(args.robot, args.framework, "paper").to_dict()
@@ -84,6 +90,11 @@ def main() -> None:
     _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / (args.unseen or args.robot))
     own = problem.evaluate([best])  # the training episodes, with their time budgets
     unseen = assess(best, problem.profile, scenarios)
+    heldout = (
+        assess(best, problem.profile, training_scenarios(problem.profile, HELDOUT_SEED,
+                                                         n=args.heldout, worlds=4))
+        if args.heldout else None
+    )  # fmt: skip
     print(json.dumps({
         "robot": args.robot, "framework": args.framework, "seed": args.seed,
         "set": args.set, "profile": args.profile,
@@ -91,6 +102,8 @@ def main() -> None:
         "training_collisions": float(own.collision_rate[0]),
         "unseen_reached": sum(r.reached for r in unseen.results),
         "unseen_collided": sum(r.collided for r in unseen.results),
+        "heldout_success": None if heldout is None else heldout.success_rate,
+        "heldout_collisions": None if heldout is None else heldout.collision_rate,
         "hidden_nodes": len(best.hidden_nodes),
         "seconds": round(time.perf_counter() - start, 1),
     }))  # fmt: skip

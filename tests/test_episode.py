@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from mentor_core.episode import run_episodes
-from mentor_core.robots import get_profile
+from mentor_core.robots import get_profile, with_planner
 from mentor_core.world import Scenario, World
 
 UGV = get_profile("ugv")  # dt 1 s, goal radius 1 m, ds in [0.1, 2] m, budget 2 d / (1 m/s)
@@ -115,6 +115,19 @@ def test_several_worlds_give_what_each_world_gives_alone() -> None:
         np.testing.assert_array_equal(batch.experience[i], alone.experience[0])
     with pytest.raises(ValueError):
         run_episodes([], UGV, straight)
+
+
+def test_a_clearance_margin_stops_a_robot_a_margin_short_of_the_wall_it_sees() -> None:
+    # full 2 m steps straight at the box face x = 6 from x = 4 (scenario 1, front edge at
+    # 4.15): without a margin the robot hits the face (test above); with a 0.1 m margin its
+    # first step is the 1.85 m its front pair sees along its heading less the margin, and then
+    # it stands (step_min 0) a margin short of the face until its decisions run out
+    guarded = with_planner(UGV, step_min=0.0, clearance_margin=0.1)
+    batch = run_episodes([SCENARIOS[1]], guarded, straight, max_steps=6)
+    assert not batch.collided[0] and batch.timed_out[0]
+    np.testing.assert_allclose(batch.trajectories[0, 1:, 0] + UGV.length / 2, 5.9)
+    ds = np.concatenate(batch.experience)[:, UGV.n_sensors + 1]
+    np.testing.assert_allclose(ds, [1.75, 0, 0, 0, 0, 0], atol=1e-12)
 
 
 def test_start_inside_the_goal_radius_is_reached_without_a_decision() -> None:

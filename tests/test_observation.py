@@ -13,6 +13,7 @@ from mentor_core.errors import ConfigError
 from mentor_core.observation import (
     action_from_twist,
     actions_from_outputs,
+    clearance_limit,
     clip_ranges,
     egocentric_goal,
     experience_point,
@@ -121,6 +122,50 @@ def test_a_planner_step_limit_narrows_the_step_and_the_rated_speed() -> None:
     for bad in (0.05, 2.5, True, "1"):  # outside [step_min, step_max] of the robot
         with pytest.raises(ConfigError, match=r"best_genome\.json: step_max"):
             with_planner(UGV, step_max=bad, source="run/best_genome.json")
+
+
+def test_a_planner_step_floor_and_clearance_margin_are_checked() -> None:
+    low = with_planner(UGV, step_max=0.5, step_min=0.02, clearance_margin=0.1)
+    assert (low.step_min, low.step_max, low.clearance_margin) == (0.02, 0.5, 0.1)
+    assert UGV.clearance_margin is None  # the robot file has none: the paper's actions
+    for bad in (-0.01, 0.6, True):  # outside [0, the planner's step_max]
+        with pytest.raises(ConfigError, match=r"run\.json: step_min"):
+            with_planner(UGV, step_max=0.5, step_min=bad, source="run.json")
+    for bad in (-0.1, math.inf, math.nan, "0.1"):
+        with pytest.raises(ConfigError, match="clearance_margin"):
+            with_planner(UGV, clearance_margin=bad)
+
+
+def test_clearance_limit_keeps_the_margin_to_the_nearest_hit_ahead() -> None:
+    # the UGV's sensors face -22.5, 22.5, 67.5, ..., 292.5 deg; turns of at most 45 deg,
+    # steps in [0.02, 0.5] m (the shipped UGV configs)
+    quarter, c8, c4 = math.pi / 4, math.cos(math.pi / 8), math.cos(math.pi / 4)
+    ugv = with_planner(
+        UGV, heading_change_max=quarter, step_max=0.5, step_min=0.02, clearance_margin=0.1
+    )
+    ranges = np.array([[0.4, 0.3, 0.2, 4.0, 4.0, 4.0, 4.0, math.inf]] * 4)
+    ranges[2, 1] = 4.0
+    ranges[3, :2] = 0.05
+    dtheta = np.array([0.0, quarter, -quarter, 0.0])
+    expected = [
+        0.3 * c8 - 0.1,  # straight on (chord 0): the front pair, 22.5 deg off
+        0.2 * c4 - 0.1,  # full left turn (chord 22.5 deg): 67.5 deg is 45 deg off, included
+        0.4 - 0.1,  # full right turn: -22.5 deg dead ahead; 22.5 and 292.5 read 4 m
+        0.02,  # a wall within the margin leaves step_min
+    ]
+    np.testing.assert_allclose(clearance_limit(ranges, dtheta, ugv), expected)
+    _, ds = actions_from_outputs(
+        [[0.5, 1.0], [1.0, 1.0], [0.0, 0.1], [0.5, 1.0]], ugv, ranges
+    )  # fmt: skip
+    # the limit only shortens a step: the third asks for 0.068 m, under its 0.3 m
+    np.testing.assert_allclose(ds, [expected[0], expected[1], 0.02 + 0.48 * 0.1, 0.02])
+    free = np.full((1, 8), math.inf)
+    assert clearance_limit(free, [0.0], ugv)[0] == 0.5
+    with pytest.raises(ValueError, match="range readings"):
+        actions_from_outputs([[0.5, 1.0]], ugv)
+    np.testing.assert_array_equal(  # without a margin the readings change nothing
+        actions_from_outputs([[0.5, 1.0]], UGV, [[0.01] * 8])[1], [UGV.step_max]
+    )
 
 
 def test_gradient_is_the_scaled_gradient_of_one_over_d_outside_the_radius() -> None:

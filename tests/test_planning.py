@@ -48,6 +48,22 @@ def test_decisions_are_the_trainers(swarm_genome_file: Path) -> None:
         assert -math.pi <= dtheta[0] <= math.pi and 0.01 <= ds[0] <= 0.08
 
 
+def test_a_genome_trained_with_a_clearance_margin_keeps_it(tmp_path: Path) -> None:
+    tracker = InnovationTracker(UGV.n_inputs + 3)
+    genome = minimal_genome(UGV.n_inputs, 2, tracker, np.random.default_rng(2))
+    planner_settings = {"step_max": 0.5, "step_min": 0.02, "clearance_margin": 0.1}
+    save_genome(genome, tmp_path / "ugv.json", metadata=planner_settings)
+    planner = GenomePlanner.load(tmp_path / "ugv.json", "ugv")
+    assert planner.profile.clearance_margin == 0.1 and planner.profile.step_min == 0.02
+    ranges = np.array([0.15, 0.15, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0])  # a wall just ahead
+    pose, goal = (1.0, 1.0, 0.0), (5.0, 1.0)
+    inputs = network_inputs(ranges[None], np.array([pose]), np.array([goal]), planner.profile)
+    outputs = planner.network.activate(inputs)
+    dtheta, ds = actions_from_outputs(outputs, planner.profile, ranges[None])
+    assert planner.decide(ranges, pose, goal) == (float(dtheta[0]), float(ds[0]))
+    assert ds[0] <= max(0.02, 0.15 - 0.1)
+
+
 def test_bad_inputs_are_refused(swarm_genome_file: Path) -> None:
     planner = GenomePlanner.load(swarm_genome_file, "swarm")
     with pytest.raises(ValueError, match="NaN"):

@@ -12,7 +12,7 @@ import pytest
 from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.evaluators import InProcessEvaluator, PoolEvaluator
 from mentor_core.genome_io import load_genome_and_metadata
-from mentor_core.robots import sensor_record
+from mentor_core.robots import get_profile, sensor_record
 from mentor_core.trainer import TrainerConfig, load_population, make_problem, train
 
 TINY = {
@@ -65,6 +65,11 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
     assert meta["step_max"] == make_problem(tiny()).profile.step_max
     assert meta["sensors"] == sensor_record(make_problem(tiny()).profile)
     assert make_problem(tiny(step_max=0.04)).profile.step_max == 0.04
+    assert (meta["step_min"], meta["clearance_margin"]) == (get_profile("swarm").step_min, None)
+    guarded = make_problem(tiny(step_min=0.0, clearance_margin=0.05)).profile
+    assert (guarded.step_min, guarded.clearance_margin) == (0.0, 0.05)
+    with pytest.raises(ConfigError, match="step_min"):  # above the robot's step_max
+        make_problem(tiny(step_min=0.5))
     with pytest.raises(ConfigError, match="step_max"):  # beyond the robot's own
         make_problem(tiny(step_max=1.0))
     spread = make_problem(tiny(training_worlds=2)).scenarios
@@ -116,7 +121,9 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     with pytest.raises(FileFormatError, match="other robot sensors"):
         train(tiny(), tmp_path, seed=3, resume=True)
     # written before the sensor record and the newer config keys: resumed as it was meant
-    del state["sensors"], state["config"]["training_worlds"], state["config"]["step_max"]
+    del state["sensors"]
+    for key in ("training_worlds", "step_max", "step_min", "clearance_margin"):
+        del state["config"][key]
     checkpoint.write_text(json.dumps(state))
     train(tiny(), tmp_path, seed=3, resume=True)
     assert without_seconds(history_rows(tmp_path)) == without_seconds(history_rows(dual_run))
@@ -148,6 +155,9 @@ def test_pool_backend_is_bit_identical_to_in_process() -> None:
         ({"heading_change_max_deg": 270}, "heading_change_max_deg"),
         ({"step_max": 0}, "step_max"),
         ({"step_max": True}, "step_max"),
+        ({"step_min": -0.01}, "step_min"),
+        ({"clearance_margin": "wide"}, "clearance_margin"),
+        ({"clearance_margin": -1}, "clearance_margin"),
         ({"training_worlds": 0}, "training_worlds"),
         ({"n_scenarios": 2, "training_worlds": 3}, "training_worlds"),
     ],

@@ -217,7 +217,7 @@ def _run_world(
         idx = np.flatnonzero(active)
         inputs = observation.network_inputs(ranges[idx], engine.poses[idx], goals[idx], profile)
         outputs = np.asarray(policy(inputs, idx), dtype=np.float64).reshape(idx.size, 2)
-        dth, ds = observation.actions_from_outputs(outputs, profile)
+        dth, ds = observation.actions_from_outputs(outputs, profile, ranges[idx])
         dtheta_all, ds_all = zeros.copy(), zeros.copy()
         dtheta_all[idx], ds_all[idx] = dth, ds
         result = engine.step(dtheta_all, ds_all, active)

@@ -34,7 +34,9 @@ cannot use it: the arenas are random), and steering towards the goal is a monoto
 
 Network outputs ``(o_1, o_2)`` (clipped to ``[0, 1]``) map linearly onto the actions
 ``dtheta in [-heading_change_max, heading_change_max]`` (rad) and ``ds in [step_min,
-step_max]`` (m). A decision becomes a Twist with ``angular.z = dtheta / dt``,
+step_max]`` (m). A planner with a clearance margin (``RobotProfile.clearance_margin``, not in
+the paper) then shortens a step to the free range its sensors read ahead
+(:func:`clearance_limit`). A decision becomes a Twist with ``angular.z = dtheta / dt``,
 ``linear.x = ds / dt`` over the control period ``dt`` (s).
 """
 
@@ -47,6 +49,7 @@ from mentor_core.kinematics import wrap_angle
 from mentor_core.robots import RobotProfile
 
 FloatArray = NDArray[np.float64]
+CLEARANCE_CONE = np.pi / 4  # sensors facing within this of the chord read "ahead", rad
 
 
 def clip_ranges(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
@@ -146,12 +149,14 @@ def egocentric_goal(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> F
 
 
 def actions_from_outputs(
-    outputs: ArrayLike, profile: RobotProfile
+    outputs: ArrayLike, profile: RobotProfile, ranges: ArrayLike | None = None
 ) -> tuple[FloatArray, FloatArray]:
     """Actions ``(dtheta (n,), ds (n,))`` from network outputs (n, 2).
 
     ``o`` clipped to [0, 1]; ``dtheta = hmax (2 o_1 - 1)`` rad, ``ds = step_min + (step_max -
-    step_min) o_2`` m. Raises ValueError for NaN outputs or a wrong shape.
+    step_min) o_2`` m, then ``ds <= clearance_limit(ranges, dtheta)`` when the profile has a
+    clearance margin (``ranges`` (n, k), the readings the inputs were made of, are then
+    required). Raises ValueError for NaN outputs or a wrong shape.
     """
     o = np.atleast_2d(np.asarray(outputs, dtype=np.float64))
     if o.ndim != 2 or o.shape[1] != 2:
@@ -161,7 +166,39 @@ def actions_from_outputs(
     o = np.clip(o, 0.0, 1.0)
     dtheta = profile.heading_change_max * (2.0 * o[:, 0] - 1.0)
     ds = profile.step_min + (profile.step_max - profile.step_min) * o[:, 1]
+    if profile.clearance_margin is not None:
+        if ranges is None:
+            raise ValueError("a planner with a clearance margin needs the range readings")
+        ds = np.minimum(ds, clearance_limit(ranges, dtheta, profile))
     return dtheta, ds
+
+
+def clearance_limit(ranges: ArrayLike, dtheta: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """Longest step (n,) m that the readings (n, k) allow for heading changes ``dtheta`` (n,).
+
+    Not in the paper. A decision moves the robot along an arc whose chord points at
+    ``phi = dtheta / 2`` in the body frame. Each sensor facing within 45 deg of the chord
+    (inclusive) saw something ``U_i cos(a_i - phi)`` along it (``U_i`` the clipped reading,
+    ``a_i`` the facing): for a flat wall across the path, exactly the wall's distance. The step
+    keeps the margin ``m`` (``profile.clearance_margin``) to the nearest, but may always take
+    ``step_min``:
+
+        ds_max = clip(min_{i : |wrap(a_i - phi)| <= 45 deg} U_i cos(a_i - phi) - m,
+                      step_min, step_max)
+
+    With no sensor in the cone the limit is ``step_max``. Raises ValueError as
+    :func:`clip_ranges`.
+    """
+    u = clip_ranges(ranges, profile)
+    half = 0.5 * np.asarray(dtheta, dtype=np.float64).reshape(-1, 1)
+    facing = np.array([m.angle for m in profile.sensors], dtype=np.float64)
+    off = wrap_angle(facing[None, :] - half)
+    ahead = np.abs(off) <= CLEARANCE_CONE + 1e-9  # inclusive: 45 deg turns see both neighbours
+    along = np.where(ahead, u * np.cos(off), np.inf).min(axis=1)
+    limit: FloatArray = np.clip(
+        along - (profile.clearance_margin or 0.0), profile.step_min, profile.step_max
+    )
+    return limit
 
 
 def twist_from_action(

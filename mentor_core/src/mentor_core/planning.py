@@ -60,8 +60,9 @@ def planner_profile(
     profile: RobotProfile, metadata: Mapping[str, Any], source: str | Path = ""
 ) -> RobotProfile:
     """``profile`` as the genome was trained to use it: its metadata's ``input_encoding``
-    (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad) and
-    ``step_max`` (m; each the profile's when absent).
+    (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
+    ``step_max`` and ``step_min`` (m; each the profile's when absent) and
+    ``clearance_margin`` (m; absent: none).
 
     ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
     (:func:`mentor_core.robots.sensor_record`; absent in genomes saved before it existed)
@@ -81,6 +82,8 @@ def planner_profile(
         input_encoding=metadata.get("input_encoding", "paper"),
         heading_change_max=metadata.get("heading_change_max"),
         step_max=metadata.get("step_max"),
+        step_min=metadata.get("step_min"),
+        clearance_margin=metadata.get("clearance_margin"),
         source=source,
     )
 
@@ -118,14 +121,15 @@ class GenomePlanner:
     ) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) for readings (k,) (m, +inf out of range), pose
         (x, y, theta) and goal (x, y) in ``map``. ValueError for NaN or malformed input."""
+        readings = np.asarray(ranges, dtype=np.float64).reshape(1, -1)
         inputs = observation.network_inputs(
-            np.asarray(ranges, dtype=np.float64).reshape(1, -1),
+            readings,
             np.asarray(pose, dtype=np.float64).reshape(1, 3),
             np.asarray(goal, dtype=np.float64).reshape(1, 2),
             self.profile,
         )
         outputs = self.network.activate(inputs)
-        dtheta, ds = observation.actions_from_outputs(outputs, self.profile)
+        dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
         return float(dtheta[0]), float(ds[0])
 
     def command(

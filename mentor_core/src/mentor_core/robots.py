@@ -77,6 +77,9 @@ class RobotProfile:
             ``"egocentric"`` (goal direction in the body frame and goal signal). Not part of
             the robot file: it belongs to a planner, and comes from the training config and
             the genome's metadata (:func:`with_planner`).
+        clearance_margin: when set, a step never exceeds the free range read ahead less this
+            margin, m (:func:`mentor_core.observation.clearance_limit`); None: no such limit,
+            as in the paper. A planner's setting, like ``input_encoding``.
     """
 
     name: str
@@ -98,6 +101,7 @@ class RobotProfile:
     beam_width: float = 0.0
     beam_rays: int = 1
     input_encoding: str = "paper"
+    clearance_margin: float | None = None
 
     @property
     def n_sensors(self) -> int:
@@ -166,17 +170,21 @@ def with_planner(
     input_encoding: object = None,
     heading_change_max: object = None,
     step_max: object = None,
+    step_min: object = None,
+    clearance_margin: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
-    ``(0, pi]``) and its largest step (m, in ``[step_min, profile.step_max]``) replaced where
-    given (None keeps the profile's).
+    ``(0, pi]``), its largest step (m, in ``[profile.step_min, profile.step_max]``), its
+    smallest step (m, in ``[0, step_max]``) and its clearance margin (m, >= 0; see
+    :func:`mentor_core.observation.clearance_limit`) replaced where given (None keeps the
+    profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
     of a scenario (:meth:`RobotProfile.time_budget`) stays reachable.
 
-    All three belong to a planner, not to the robot: the trainer takes them from its config
+    All of them belong to a planner, not to the robot: the trainer takes them from its config
     and writes them into the genome's metadata (``mentor_core.planning.planner_profile``).
     ConfigError naming ``source`` and the key for a bad value.
     """
@@ -203,6 +211,16 @@ def with_planner(
         )  # fmt: skip
         changes["step_max"] = step
         changes["rated_speed"] = profile.rated_speed * step / profile.step_max
+    if step_min is not None:
+        top = changes.get("step_max", profile.step_max)
+        changes["step_min"] = _planner_number(
+            step_min, lambda v: 0.0 <= v <= top, f"[0, {top}] m", "step_min", where
+        )
+    if clearance_margin is not None:
+        changes["clearance_margin"] = _planner_number(
+            clearance_margin, lambda v: 0.0 <= v < math.inf, "[0, inf) m", "clearance_margin",
+            where,
+        )  # fmt: skip
     return dataclasses.replace(profile, **changes)
 
 

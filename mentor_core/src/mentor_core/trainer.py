@@ -49,7 +49,9 @@ Framework = Literal["single", "dual"]
 CHECKPOINT_FORMAT = "mentor-train-checkpoint"
 CHECKPOINT_VERSION = 1
 # config keys added after checkpoint version 1 came out, with the value their absence meant
-_CONFIG_KEYS_ADDED: dict[str, Any] = {"training_worlds": 1, "step_max": None}
+_CONFIG_KEYS_ADDED: dict[str, Any] = {
+    "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
+}
 HISTORY_FIELDS = (
     "generation", "stage", "mode", "evaluations", "best_F", "mean_F", "best_G", "mean_G",
     "species", "largest_niche_share", "niche_sizes", "best_success_rate",
@@ -79,6 +81,11 @@ class TrainerConfig:
         step_max: the planner's largest step per decision, m, between the robot's step_min
             and step_max (None: the robot's, as in the paper); the time budgets follow it
             (``mentor_core.robots.with_planner``); also written into the metadata.
+        step_min: the planner's smallest step, m, in [0, step_max] (None: the robot's, 0.1 m
+            as in the paper); also written into the metadata.
+        clearance_margin: when set, every step is shortened to the free range read ahead less
+            this margin, m (``mentor_core.observation.clearance_limit``; None: no such limit,
+            as in the paper); also written into the metadata.
         evolution: the MENTOR evolution parameters (population, rates, speciation).
     """
 
@@ -93,6 +100,8 @@ class TrainerConfig:
     input_encoding: str = "egocentric"
     heading_change_max_deg: float | None = None
     step_max: float | None = None
+    step_min: float | None = None
+    clearance_margin: float | None = None
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
 
     def __post_init__(self) -> None:
@@ -116,19 +125,17 @@ class TrainerConfig:
             or (self.n_scenarios is not None and self.training_worlds > self.n_scenarios)
         ):
             raise ConfigError("must be in [1, n_scenarios]", key="training_worlds")
-        limit = self.heading_change_max_deg
-        if limit is not None and (
-            isinstance(limit, bool)
-            or not isinstance(limit, int | float)
-            or not 0.0 < limit <= 180.0
-        ):
-            raise ConfigError("must be null or in (0, 180] degrees", key="heading_change_max_deg")
-        if self.step_max is not None and (
-            isinstance(self.step_max, bool)
-            or not isinstance(self.step_max, int | float)
-            or not self.step_max > 0.0
-        ):
-            raise ConfigError("must be null or a positive number of m", key="step_max")
+        _check_optional(
+            self.heading_change_max_deg, lambda v: 0.0 < v <= 180.0, "in (0, 180] degrees",
+            "heading_change_max_deg",
+        )  # fmt: skip
+        # their bounds by the robot's own steps are checked by make_problem (with_planner)
+        _check_optional(self.step_max, lambda v: v > 0.0, "a positive number of m", "step_max")
+        _check_optional(self.step_min, lambda v: v >= 0.0, "a number >= 0 m", "step_min")
+        _check_optional(
+            self.clearance_margin, lambda v: 0.0 <= v < math.inf, "a number >= 0 m",
+            "clearance_margin",
+        )  # fmt: skip
         if self.input_encoding not in INPUT_ENCODINGS:
             raise ConfigError(
                 f"must be one of {', '.join(INPUT_ENCODINGS)}", key="input_encoding"
@@ -299,6 +306,14 @@ def _record_from_row(row: dict[str, Any]) -> GenerationRecord:
     )
 
 
+def _check_optional(value: object, ok: Callable[[float], bool], allowed: str, key: str) -> None:
+    """ConfigError for ``key`` unless ``value`` is None or a number (not a bool) ``ok`` takes."""
+    if value is None:
+        return
+    if isinstance(value, bool) or not isinstance(value, int | float) or not ok(float(value)):
+        raise ConfigError(f"must be null or {allowed}", key=key)
+
+
 def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> NavigationProblem:
     """The training problem of a config: its robot's scenarios from ``scenario_seed``, the
     network fed with the config's input encoding (``profile`` defaults to the shipped one)."""
@@ -308,6 +323,8 @@ def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> 
         input_encoding=config.input_encoding,
         heading_change_max=None if limit is None else math.radians(limit),
         step_max=config.step_max,
+        step_min=config.step_min,
+        clearance_margin=config.clearance_margin,
         source="trainer config",
     )
     count = config.n_scenarios or prof.train_scenarios
@@ -512,6 +529,8 @@ def train(
                 "input_encoding": problem.profile.input_encoding,
                 "heading_change_max": problem.profile.heading_change_max,
                 "step_max": problem.profile.step_max,
+                "step_min": problem.profile.step_min,
+                "clearance_margin": problem.profile.clearance_margin,
                 "sensors": sensor_record(problem.profile),
                 "framework": config.framework,
                 "seed": seed,
