@@ -178,3 +178,19 @@ def test_config_file_round_trip_and_errors(tmp_path: Path) -> None:
         TrainerConfig.from_yaml(path)
     with pytest.raises(FileFormatError, match="no such file"):
         TrainerConfig.from_yaml(tmp_path / "missing.yaml")
+
+
+def test_mentor_train_names_the_config_file_of_a_step_outside_the_robots(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import yaml
+
+    from mentor_core.cli import train as train_cli
+
+    path = tmp_path / "steps.yaml"
+    path.write_text(yaml.safe_dump(tiny(step_min=0.5).to_dict()))  # the robot steps <= 0.08 m
+    argv = ["--robot", "swarm", "--framework", "dual", "--config", str(path)]
+    assert train_cli.main([*argv, "--out", str(tmp_path / "run")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "steps.yaml: step_min" in err[0]
+    assert not (tmp_path / "run").exists()

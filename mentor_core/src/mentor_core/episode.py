@@ -215,15 +215,16 @@ def _run_world(
 
     while active.any():
         idx = np.flatnonzero(active)
-        inputs = observation.network_inputs(ranges[idx], engine.poses[idx], goals[idx], profile)
+        seen = ranges[idx]
+        inputs = observation.network_inputs(seen, engine.poses[idx], goals[idx], profile)
         outputs = np.asarray(policy(inputs, idx), dtype=np.float64).reshape(idx.size, 2)
-        dth, ds = observation.actions_from_outputs(outputs, profile, ranges[idx])
+        dth, ds = observation.actions_from_outputs(outputs, profile, seen)
         dtheta_all, ds_all = zeros.copy(), zeros.copy()
         dtheta_all[idx], ds_all[idx] = dth, ds
         result = engine.step(dtheta_all, ds_all, active)
         after = engine.observe(idx)
         action = np.stack([dth, ds], axis=1)
-        chunks.append(observation.experience_point(ranges[idx], action, after, profile))
+        chunks.append(observation.experience_point(seen, action, after, profile))
         owners.append(idx)
         ranges[idx] = after
         steps[idx] += 1

@@ -314,9 +314,14 @@ def _check_optional(value: object, ok: Callable[[float], bool], allowed: str, ke
         raise ConfigError(f"must be null or {allowed}", key=key)
 
 
-def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> NavigationProblem:
+def make_problem(
+    config: TrainerConfig, profile: RobotProfile | None = None, source: str = "trainer config"
+) -> NavigationProblem:
     """The training problem of a config: its robot's scenarios from ``scenario_seed``, the
-    network fed with the config's input encoding (``profile`` defaults to the shipped one)."""
+    network fed with the config's input encoding (``profile`` defaults to the shipped one).
+
+    ConfigError naming ``source`` (the config file) for planner settings outside the robot's
+    own ranges and more training worlds than scenarios."""
     limit = config.heading_change_max_deg
     prof = with_planner(
         profile or get_profile(config.robot),
@@ -325,14 +330,14 @@ def make_problem(config: TrainerConfig, profile: RobotProfile | None = None) -> 
         step_max=config.step_max,
         step_min=config.step_min,
         clearance_margin=config.clearance_margin,
-        source="trainer config",
+        source=source,
     )
     count = config.n_scenarios or prof.train_scenarios
     if config.training_worlds > count:
         raise ConfigError(
             f"{count} training scenarios cannot cover {config.training_worlds} worlds",
             key="training_worlds",
-            path="trainer config",
+            path=source,
         )
     scenarios = training_scenarios(
         prof, config.scenario_seed, count, worlds=config.training_worlds

@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         config = resolve_config(args.robot, args.framework, args.config)
-        problem = make_problem(config)
+        problem = make_problem(config, source=args.config or "paper")
         callbacks = [] if args.quiet else [ProgressPrinter(config.generations)]
         print(
             f"mentor-train: {config.robot} {config.framework}-stage, "
