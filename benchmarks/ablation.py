@@ -10,8 +10,11 @@ Trains one run with the shipped paper-scale config (``--framework``, default sin
 evaluates its best genome on its own training scenarios (their time budgets) and on
 ``bags/unseen/<robot>`` (mentor-eval's test: 50 s, goal radius). ``--profile FIELD=VALUE``
 replaces a field of the robot profile, outside the trainer config (``step_max=1.0``,
-``beam_width_deg=30 --profile beam_rays=5``). Prints
-one JSON object.
+``beam_width_deg=30 --profile beam_rays=5``). ``--heldout N`` (default 100) also tests it,
+with the same 50 s test, on scenarios no run trains or is tested on otherwise: N pairs in 4
+DoE worlds of seed 999 (``heldout_*``) and N / 2 pairs in a walled layout unlike the DoE's
+boxes and the unseen S-corridor (``walls_*``); choose settings on these, not on the 10 unseen
+pairs. Prints one JSON object.
 """
 
 from __future__ import annotations
@@ -25,18 +28,41 @@ import time
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
 from mentor_core.assessment import assess
 from mentor_core.bagio import read_scenario_bag
 from mentor_core.cli.train import resolve_config
 from mentor_core.evaluators import InProcessEvaluator
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
+from mentor_core.robots import RobotProfile, get_profile
+from mentor_core.scenarios import sample_scenarios, training_scenarios
 from mentor_core.trainer import TrainerConfig, make_problem, train
+from mentor_core.world import Scenario, World
 
 ROOT = Path(__file__).resolve().parents[1]
 HELDOUT_SEED = 999  # training DoEs use the config's scenario seed (0); this one no run sees
+# a walled layout unlike both the DoE's boxes and the unseen S-corridor, (xmin, ymin, xmax,
+# ymax) on a 12 x 12 m drawing, scaled to the robot's test arena
+HELDOUT_WALLS_12M = (
+    (1.5, 6.0, 6.0, 6.3),
+    (8.0, 2.0, 8.3, 9.0),
+    (3.0, 9.5, 10.0, 9.8),
+    (3.0, 2.5, 6.5, 2.8),
+    (4.5, 3.8, 4.8, 5.0),
+    (10.0, 4.0, 10.6, 4.6),
+    (1.5, 8.0, 2.1, 8.6),
+)
+
+
+def heldout_walls(profile: RobotProfile, n: int) -> list[Scenario]:
+    """``n`` start/goal pairs (seed 999, at least a quarter of the arena apart, as the unseen
+    bags' pairs) in the walled held-out layout at the robot's test-arena size."""
+    size = profile.test_arena
+    boxes = np.asarray(HELDOUT_WALLS_12M, dtype=np.float64) * (size / 12.0)
+    world = World(size, boxes, name=f"{profile.name}-heldout-walls")
+    rng = np.random.default_rng(HELDOUT_SEED)
+    return sample_scenarios(world, profile, n, rng, min_distance=size / 4)
 
 
 def apply(config: dict[str, Any], assignment: str) -> None:
@@ -64,7 +90,8 @@ def main() -> None:
     p.add_argument("--out", type=Path, help="run directory (default: a temporary one)")
     p.add_argument(
         "--heldout", type=int, default=100, metavar="N",
-        help="also test on N pairs in 4 held-out DoE worlds (seed 999; 0: skip)",
+        help="also test on N pairs in 4 held-out DoE worlds and N/2 in a held-out walled "
+             "layout (seed 999; 0: skip)",
     )  # fmt: skip
     args = p.parse_args()
 
@@ -95,6 +122,8 @@ def main() -> None:
                                                          n=args.heldout, worlds=4))
         if args.heldout else None
     )  # fmt: skip
+    walls = assess(best, problem.profile, heldout_walls(problem.profile, args.heldout // 2)) \
+        if args.heldout else None
     print(json.dumps({
         "robot": args.robot, "framework": args.framework, "seed": args.seed,
         "set": args.set, "profile": args.profile,
@@ -104,6 +133,8 @@ def main() -> None:
         "unseen_collided": sum(r.collided for r in unseen.results),
         "heldout_success": None if heldout is None else heldout.success_rate,
         "heldout_collisions": None if heldout is None else heldout.collision_rate,
+        "walls_success": None if walls is None else walls.success_rate,
+        "walls_collisions": None if walls is None else walls.collision_rate,
         "hidden_nodes": len(best.hidden_nodes),
         "seconds": round(time.perf_counter() - start, 1),
     }))  # fmt: skip
