@@ -1,13 +1,16 @@
 """Seconds per paper-scale generation: simulation plus experience gain, per backend.
 
     .venv/bin/python benchmarks/generation_bench.py [--robot ugv] [--genomes 100]
-        [--scenarios 80] [--repeats 2] [--workers 1 2] [--step-max M]
+        [--scenarios 80] [--repeats 2] [--workers 1 2] [--step-max M] [--step-min M]
+        [--clearance-margin M]
 
 A generation is every genome on every training scenario in the batched engine (up to the
 scenario's time budget, 50 decisions at most), then one Euclidean MST per genome over its
 experience points. Genomes are evolved-looking: minimal genomes put through a few rounds of
 the paper's mutation so they carry hidden nodes. ``--step-max`` runs the planners with a
-shorter step, as the shipped UGV training configs do (``step_max: 0.5``; longer episodes).
+shorter step, as the shipped UGV training configs do (``step_max: 0.5``; longer episodes);
+``--step-min`` and ``--clearance-margin`` set the rest of their step rule (0.02 and 0.2 m:
+``--step-max 0.5 --step-min 0.02 --clearance-margin 0.2`` is the shipped UGV planner).
 Prints JSON.
 """
 
@@ -44,15 +47,22 @@ def main() -> None:
     p.add_argument("--rounds", type=int, default=10, help="mutation rounds per genome")
     p.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     p.add_argument("--step-max", type=float, help="the planners' largest step (m)")
+    p.add_argument("--step-min", type=float, help="the planners' smallest step (m)")
+    p.add_argument("--clearance-margin", type=float, help="the planners' clearance margin (m)")
     args = p.parse_args()
 
-    profile = with_planner(get_profile(args.robot), step_max=args.step_max)
+    profile = with_planner(
+        get_profile(args.robot), step_max=args.step_max, step_min=args.step_min,
+        clearance_margin=args.clearance_margin,
+    )  # fmt: skip
     scenarios = training_scenarios(profile, 0, args.scenarios)
     genomes = evolved_looking(args.genomes, profile.n_inputs, args.robot, args.rounds, 1)
     problem = NavigationProblem(profile, scenarios)
     out: dict[str, object] = {
         "robot": args.robot,
         "step_max": profile.step_max,
+        "step_min": profile.step_min,
+        "clearance_margin": profile.clearance_margin,
         "genomes": args.genomes,
         "scenarios": args.scenarios,
         "mean_hidden_nodes": float(np.mean([len(g.hidden_nodes) for g in genomes])),
