@@ -117,13 +117,11 @@ def main() -> None:
     _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / (args.unseen or args.robot))
     own = problem.evaluate([best])  # the training episodes, with their time budgets
     unseen = assess(best, problem.profile, scenarios)
-    heldout = (
-        assess(best, problem.profile, training_scenarios(problem.profile, HELDOUT_SEED,
-                                                         n=args.heldout, worlds=4))
-        if args.heldout else None
-    )  # fmt: skip
-    walls = assess(best, problem.profile, heldout_walls(problem.profile, args.heldout // 2)) \
-        if args.heldout else None
+    heldout = walls = None
+    if args.heldout:
+        doe = training_scenarios(problem.profile, HELDOUT_SEED, n=args.heldout, worlds=4)
+        heldout = assess(best, problem.profile, doe)
+        walls = assess(best, problem.profile, heldout_walls(problem.profile, args.heldout // 2))
     print(json.dumps({
         "robot": args.robot, "framework": args.framework, "seed": args.seed,
         "set": args.set, "profile": args.profile,

@@ -162,7 +162,7 @@ class ScanGeometry:
 
 def scan_geometry(profile: RobotProfile) -> ScanGeometry:
     """The :class:`ScanGeometry` of ``profile``'s sensors."""
-    angles = np.array([m.angle for m in profile.sensors], dtype=np.float64)
+    angles = profile.sensor_angles
     if angles.size == 0:
         return ScanGeometry(0.0, 0.0, 0.0, 0.0, float(profile.sensor_range))
     increment = 0.0

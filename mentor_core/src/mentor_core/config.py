@@ -23,7 +23,7 @@ from typing import Any, Literal
 
 import yaml
 
-from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.errors import ConfigError, FileFormatError, is_number
 from mentor_core.mutation import MutationConfig
 from mentor_core.network import ACTIVATIONS
 from mentor_core.species import SpeciationConfig
@@ -41,10 +41,6 @@ def _is_int(value: object) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-def _is_number(value: object) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool)
-
-
 def _coerce(value: Any, default: Any, key: str, path: str | None) -> Any:
     """Check ``value`` against the type of a field's ``default``; ints are accepted as floats."""
     if isinstance(default, bool):
@@ -56,7 +52,7 @@ def _coerce(value: Any, default: Any, key: str, path: str | None) -> Any:
             raise ConfigError(f"expected an integer, got {value!r}", key=key, path=path)
         return value
     if isinstance(default, float):
-        if not _is_number(value):
+        if not is_number(value):
             raise ConfigError(f"expected a number, got {value!r}", key=key, path=path)
         if not math.isfinite(float(value)):
             raise ConfigError(f"expected a finite number, got {value!r}", key=key, path=path)
@@ -70,7 +66,7 @@ def _coerce(value: Any, default: Any, key: str, path: str | None) -> Any:
             raise ConfigError(f"expected a list, got {value!r}", key=key, path=path)
         return tuple(value)
     if default is None:  # optional field: accept a number, an integer or null
-        if value is not None and not _is_number(value):
+        if value is not None and not is_number(value):
             raise ConfigError(f"expected a number or null, got {value!r}", key=key, path=path)
         return value
     return value
@@ -264,7 +260,7 @@ def _validate(values: Mapping[str, Any], path: str | None) -> None:
     need(c.generations >= 1, "generations", "must be at least 1")
     for key in ("elitism", "crossover_rate", "global_fraction", "initial_weight_sigma"):
         value = getattr(c, key)
-        need(_is_number(value) and math.isfinite(value), key, f"expected a number, got {value!r}")
+        need(is_number(value) and math.isfinite(value), key, f"expected a number, got {value!r}")
     need(0.0 <= c.elitism < 1.0, "elitism", "must be in [0, 1)")
     need(0.0 <= c.crossover_rate <= 1.0, "crossover_rate", "must be in [0, 1]")
     need(0.0 <= c.global_fraction < 1.0, "global_fraction", "must be in [0, 1)")

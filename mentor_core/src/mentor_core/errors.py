@@ -7,6 +7,7 @@ can print ``str(err)`` and exit non-zero.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TypeGuard
 
 
 class MentorError(Exception):
@@ -37,3 +38,9 @@ def is_version(value: object, expected: int) -> bool:
     """Whether a file's ``version`` field is exactly the integer ``expected`` (JSON ``true``
     equals 1 in Python, but is not a version)."""
     return type(value) is int and value == expected
+
+
+def is_number(value: object) -> TypeGuard[int | float]:
+    """Whether a config or metadata value is an int or a float, not a bool (YAML and JSON
+    ``true`` is an int in Python, but is not a number of metres or degrees)."""
+    return isinstance(value, int | float) and not isinstance(value, bool)

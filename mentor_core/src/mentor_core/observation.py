@@ -191,8 +191,7 @@ def clearance_limit(ranges: ArrayLike, dtheta: ArrayLike, profile: RobotProfile)
     """
     u = clip_ranges(ranges, profile)
     half = 0.5 * np.asarray(dtheta, dtype=np.float64).reshape(-1, 1)
-    facing = np.array([m.angle for m in profile.sensors], dtype=np.float64)
-    off = wrap_angle(facing[None, :] - half)
+    off = wrap_angle(profile.sensor_angles[None, :] - half)
     ahead = np.abs(off) <= CLEARANCE_CONE + 1e-9  # inclusive: 45 deg turns see both neighbours
     along = np.where(ahead, u * np.cos(off), np.inf).min(axis=1)
     limit: FloatArray = np.clip(

@@ -31,7 +31,7 @@ import numpy as np
 import yaml
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.errors import ConfigError, FileFormatError, is_version
+from mentor_core.errors import ConfigError, FileFormatError, is_number, is_version
 
 #: environment variable that names a robot file to use instead of the shipped one
 ROBOTS_ENV = "MENTOR_ROBOTS"
@@ -102,6 +102,11 @@ class RobotProfile:
     beam_rays: int = 1
     input_encoding: str = "paper"
     clearance_margin: float | None = None
+
+    @property
+    def sensor_angles(self) -> NDArray[np.float64]:
+        """Facing angles of the sensors in reading order, rad: ``(n_sensors,)``."""
+        return np.array([m.angle for m in self.sensors], dtype=np.float64)
 
     @property
     def n_sensors(self) -> int:
@@ -229,7 +234,7 @@ def _planner_number(
 ) -> float:
     """``value`` as a float when it is a number (not a bool) that ``ok`` accepts, else a
     ConfigError naming ``key`` and the ``allowed`` range."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or not ok(float(value)):
+    if not is_number(value) or not ok(float(value)):
         raise ConfigError(f"must be a number in {allowed}, got {value!r}", key=key, path=where)
     return float(value)
 

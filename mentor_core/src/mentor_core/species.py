@@ -17,7 +17,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import NDArray
 
-from mentor_core.errors import ConfigError
+from mentor_core.errors import ConfigError, is_number
 from mentor_core.genome import Genome
 
 ASSIGNMENTS = ("nearest", "first")
@@ -58,7 +58,7 @@ class SpeciationConfig:
                 ):
                     raise ConfigError(f"must be None or an int >= 1, got {value!r}", key=f.name)
                 continue
-            if isinstance(value, bool) or not isinstance(value, int | float):
+            if not is_number(value):
                 raise ConfigError(f"must be a number, got {value!r}", key=f.name)
             if not (np.isfinite(value) and value >= 0.0):
                 raise ConfigError(f"must be finite and >= 0, got {value!r}", key=f.name)

@@ -29,7 +29,7 @@ import yaml
 from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.complexity import flops_ratio
 from mentor_core.config import EvolutionConfig
-from mentor_core.errors import ConfigError, FileFormatError, is_version
+from mentor_core.errors import ConfigError, FileFormatError, is_number, is_version
 from mentor_core.evaluators import Evaluator, InProcessEvaluator
 from mentor_core.evolution import Evolution, Mode
 from mentor_core.genome import Genome
@@ -310,7 +310,7 @@ def _check_optional(value: object, ok: Callable[[float], bool], allowed: str, ke
     """ConfigError for ``key`` unless ``value`` is None or a number (not a bool) ``ok`` takes."""
     if value is None:
         return
-    if isinstance(value, bool) or not isinstance(value, int | float) or not ok(float(value)):
+    if not is_number(value) or not ok(float(value)):
         raise ConfigError(f"must be null or {allowed}", key=key)
 
 

@@ -30,7 +30,7 @@ import yaml
 from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.atomic import write_text_atomic
-from mentor_core.errors import FileFormatError, is_version
+from mentor_core.errors import FileFormatError, is_number, is_version
 from mentor_core.kinematics import wrap_angle
 
 WORLD_FORMAT = "mentor-world"
@@ -238,7 +238,7 @@ def _numbers(value: Any, key: str, n: int) -> list[float]:
     if not isinstance(items, list) or len(items) != n:
         raise ValueError(f"{key} must be a list of {n} numbers")
     for v in items:
-        if isinstance(v, bool) or not isinstance(v, int | float):
+        if not is_number(v):
             raise ValueError(f"{key} must hold numbers, got {v!r}")
         if not math.isfinite(v):
             raise ValueError(f"{key} is not finite ({v})")
