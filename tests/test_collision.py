@@ -6,6 +6,9 @@ import numpy as np
 import pytest
 
 from mentor_core.collision import (
+    EVENT_COLLIDED,
+    EVENT_NONE,
+    EVENT_REACHED,
     default_sample_step,
     first_collisions,
     robot_collides,
@@ -13,6 +16,7 @@ from mentor_core.collision import (
     separation_margin,
     sweep_may_collide,
     swept_collision,
+    swept_events,
     swept_samples,
 )
 from mentor_core.kinematics import arc_samples
@@ -167,3 +171,32 @@ def test_straight_into_a_wall() -> None:
     samples = arc_samples(pose, 0.0, 2.0, int(sample_counts(0.0, 2.0, UGV)))[0]
     assert idx[0] > 0
     assert samples[idx[0], 0] + 0.15 > 10.0 >= samples[idx[0] - 1, 0] + 0.15
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba not importable")
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_swept_events_backends_agree_bit_for_bit(seed: int) -> None:
+    """The compiled kernel (one robot at a time, stopping at the first event) gives the numpy
+    path's events, stop samples and end poses exactly, with every kind of ending present."""
+    world = _random_world(seed)
+    rng = np.random.default_rng(seed)
+    n = 4000
+    poses = np.c_[rng.uniform(0.0, 10.0, (n, 2)), rng.uniform(-np.pi, np.pi, n)]
+    dth = rng.uniform(-np.pi, np.pi, n)
+    ds = rng.uniform(0.0, 2.0, n)
+    goals = poses[:, :2] + rng.normal(0.0, 1.5, (n, 2))
+    counts = sample_counts(dth, ds, UGV)
+    fast = swept_events(poses, dth, ds, counts, goals, UGV, world, backend="numba")
+    ref = swept_events(poses, dth, ds, counts, goals, UGV, world, backend="numpy")
+    for got, want in zip(fast, ref, strict=True):
+        np.testing.assert_array_equal(got, want)
+    event, stop, end = ref
+    assert {EVENT_NONE, EVENT_REACHED, EVENT_COLLIDED} <= set(event.tolist())
+    # the definition: collisions stop a sample early, the others where the event happened
+    hit = swept_collision(poses, dth, ds, UGV, world)
+    collided = event == EVENT_COLLIDED
+    np.testing.assert_array_equal(collided, (hit >= 0) & (event != EVENT_REACHED))
+    np.testing.assert_array_equal(stop[collided], np.maximum(hit[collided] - 1, 0))
+    np.testing.assert_array_equal(stop[event == EVENT_NONE], counts[event == EVENT_NONE])
+    reached = event == EVENT_REACHED
+    assert (np.hypot(*(end[reached, :2] - goals[reached]).T) <= UGV.goal_radius).all()

@@ -26,6 +26,14 @@ both give the same verdicts.
 Two backends give identical verdicts: a numba kernel with a bounding-box broad phase per robot
 (the trainer's hot loop), and a vectorised numpy version (fallback and test reference). Both
 take the sample poses and their cos/sin from numpy and share every later rounding step.
+
+The engine's step asks :func:`swept_events` what ends each arc first (a collision or the goal).
+Its numpy path composes the functions above; its compiled path walks one robot's samples at a
+time and stops at the first event, skipping the exact test (and its cos and sin) of a sample
+that no wall or box comes within the half-diagonal of. It computes the sample poses with the
+same scalar :func:`mentor_core.kinematics.arc_pose` and their cos and sin with the C library's,
+which numpy's float64 ``cos``/``sin`` equal on x86-64 (``tests/test_collision.py`` compares
+the two paths bit for bit).
 """
 
 from __future__ import annotations
@@ -36,7 +44,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.kinematics import arc_fraction_poses
+from mentor_core.kinematics import arc_fraction_poses, arc_pose
 from mentor_core.sensors import Backend, _use_numba
 
 if TYPE_CHECKING:
@@ -55,6 +63,9 @@ MAX_SAMPLE_ANGLE = np.pi / 16.0
 # Samples x boxes handled at once by the numpy backend.
 NUMPY_CHUNK_ELEMENTS = 1 << 20
 NO_COLLISION = -1
+_NO_EVENT = np.iinfo(np.int64).max
+# What ends a decision's arc first (:func:`swept_events`).
+EVENT_NONE, EVENT_REACHED, EVENT_COLLIDED = 0, 1, 2
 # Slack (m) of the swept broad phase, so that rounding never drops a box that overlaps.
 BROAD_PHASE_SLACK = 1e-9
 
@@ -120,16 +131,17 @@ def sweep_bounds(
 
 def sweep_may_collide(
     poses: ArrayLike, dtheta: ArrayLike, ds: ArrayLike, profile: RobotProfile, world: World,
-    *, backend: Backend = "auto",
+    *, backend: Backend = "auto", bounds: tuple[FloatArray, FloatArray] | None = None,
 ) -> BoolArray:
     """Broad phase ``(n,)``: False guarantees that no sample of the decision collides.
 
     The swept body stays in the disc of radius ``|ds| / 2 + half_diagonal`` around the arc's
-    half-way point (:func:`sweep_bounds`); a decision whose disc misses every box and stays
-    inside the walls (with ``BROAD_PHASE_SLACK``) needs no narrow phase. The numba and numpy
-    backends do the same arithmetic (no transcendental functions), so they agree exactly.
+    half-way point (:func:`sweep_bounds`; pass them as ``bounds`` when already computed); a
+    decision whose disc misses every box and stays inside the walls (with
+    ``BROAD_PHASE_SLACK``) needs no narrow phase. The numba and numpy backends do the same
+    arithmetic (no transcendental functions), so they agree exactly.
     """
-    centre, radius = sweep_bounds(poses, dtheta, ds)
+    centre, radius = sweep_bounds(poses, dtheta, ds) if bounds is None else bounds
     reach = radius + (profile.half_diagonal + BROAD_PHASE_SLACK)
     x = np.ascontiguousarray(centre[:, 0])
     y = np.ascontiguousarray(centre[:, 1])
@@ -205,6 +217,68 @@ def _collides_numpy(
     return hit
 
 
+def _candidate_boxes(
+    x_min: float, x_max: float, y_min: float, y_max: float, reach: float,
+    cx: FloatArray, cy: FloatArray, hx: FloatArray, hy: FloatArray, cand: IntArray,
+) -> int:
+    """Broad phase of one robot (compiled by numba): writes into ``cand`` the boxes that meet
+    the bounding box ``[x_min, x_max] x [y_min, y_max]`` of its sample centres grown by
+    ``reach``; returns their number."""
+    n_cand = 0
+    for k in range(cx.shape[0]):
+        if (
+            abs(cx[k] - 0.5 * (x_min + x_max)) <= hx[k] + 0.5 * (x_max - x_min) + reach
+            and abs(cy[k] - 0.5 * (y_min + y_max)) <= hy[k] + 0.5 * (y_max - y_min) + reach
+        ):
+            cand[n_cand] = k
+            n_cand += 1
+    return n_cand
+
+
+def _pose_may_collide(
+    x: float, y: float, reach: float, cx: FloatArray, cy: FloatArray, hx: FloatArray,
+    hy: FloatArray, cand: IntArray, n_cand: int, size: float,
+) -> bool:
+    """Whether a body centred at ``(x, y)`` at any heading may touch a wall or a candidate box
+    (compiled by numba). ``reach`` (the half-diagonal plus slack) bounds the body's half
+    extents ``ex``, ``ey``, so False implies the first tests of :func:`_pose_collides` all say
+    apart: the exact test, and its cos and sin, can be skipped."""
+    if x - reach < 0.0 or x + reach > size or y - reach < 0.0 or y + reach > size:
+        return True
+    for m in range(n_cand):
+        k = cand[m]
+        if abs(x - cx[k]) < reach + hx[k] and abs(y - cy[k]) < reach + hy[k]:
+            return True
+    return False
+
+
+def _pose_collides(
+    x: float, y: float, c: float, s: float, a: float, b: float, cx: FloatArray,
+    cy: FloatArray, hx: FloatArray, hy: FloatArray, cand: IntArray, n_cand: int, size: float,
+) -> bool:
+    """Narrow phase of one pose against the walls and the candidate boxes (compiled by numba);
+    every rounding step is the numpy backend's."""
+    ac = abs(c)
+    as_ = abs(s)
+    ex = a * ac + b * as_
+    ey = a * as_ + b * ac
+    hit = x - ex < 0.0 or x + ex > size or y - ey < 0.0 or y + ey > size
+    for m in range(n_cand):
+        if hit:
+            break
+        k = cand[m]
+        dx = x - cx[k]
+        dy = y - cy[k]
+        apart = (
+            abs(dx) >= ex + hx[k]
+            or abs(dy) >= ey + hy[k]
+            or abs(dx * c + dy * s) >= a + (hx[k] * ac + hy[k] * as_)
+            or abs(dy * c - dx * s) >= b + (hx[k] * as_ + hy[k] * ac)
+        )
+        hit = not apart
+    return hit
+
+
 def _first_hit_loop(
     x: FloatArray, y: FloatArray, c: FloatArray, s: FloatArray, offsets: IntArray,
     a: float, b: float, cx: FloatArray, cy: FloatArray, hx: FloatArray, hy: FloatArray,
@@ -220,58 +294,82 @@ def _first_hit_loop(
     for i in range(offsets.shape[0] - 1):
         lo = offsets[i]
         hi = offsets[i + 1]
-        x_min = x[lo]
-        x_max = x[lo]
-        y_min = y[lo]
-        y_max = y[lo]
-        for j in range(lo + 1, hi):
-            x_min = min(x_min, x[j])
-            x_max = max(x_max, x[j])
-            y_min = min(y_min, y[j])
-            y_max = max(y_max, y[j])
-        n_cand = 0
-        for k in range(cx.shape[0]):
-            if (
-                abs(cx[k] - 0.5 * (x_min + x_max)) <= hx[k] + 0.5 * (x_max - x_min) + reach
-                and abs(cy[k] - 0.5 * (y_min + y_max)) <= hy[k] + 0.5 * (y_max - y_min) + reach
-            ):
-                cand[n_cand] = k
-                n_cand += 1
+        n_cand = _candidate_boxes(
+            x[lo:hi].min(), x[lo:hi].max(), y[lo:hi].min(), y[lo:hi].max(), reach,
+            cx, cy, hx, hy, cand,
+        )
         out[i] = -1
         for j in range(lo, hi):
-            ac = abs(c[j])
-            as_ = abs(s[j])
-            ex = a * ac + b * as_
-            ey = a * as_ + b * ac
-            hit = x[j] - ex < 0.0 or x[j] + ex > size or y[j] - ey < 0.0 or y[j] + ey > size
-            for m in range(n_cand):
-                if hit:
-                    break
-                k = cand[m]
-                dx = x[j] - cx[k]
-                dy = y[j] - cy[k]
-                apart = (
-                    abs(dx) >= ex + hx[k]
-                    or abs(dy) >= ey + hy[k]
-                    or abs(dx * c[j] + dy * s[j]) >= a + (hx[k] * ac + hy[k] * as_)
-                    or abs(dy * c[j] - dx * s[j]) >= b + (hx[k] * as_ + hy[k] * ac)
-                )
-                hit = not apart
-            if hit:
+            if _pose_collides(x[j], y[j], c[j], s[j], a, b, cx, cy, hx, hy, cand, n_cand, size):
                 out[i] = j - lo
                 break
 
 
+def _events_loop(
+    poses: FloatArray, dtheta: FloatArray, ds: FloatArray, counts: IntArray, goals: FloatArray,
+    goal_radius: float, a: float, b: float, cx: FloatArray, cy: FloatArray, hx: FloatArray,
+    hy: FloatArray, size: float, event: NDArray[np.int8], stop: IntArray, end: FloatArray,
+) -> None:
+    """Compiled twin of :func:`swept_events`' numpy path, one robot at a time: its sample poses
+    (:func:`mentor_core.kinematics.arc_pose` at fraction ``j / n``, as
+    :func:`swept_samples`), its broad phase and the exact test of :func:`_first_hit_loop`, the
+    goal test of :func:`_first_within`; it stops at the first event."""
+    reach = np.sqrt(a * a + b * b) + BROAD_PHASE_SLACK
+    cand = np.empty(cx.shape[0], dtype=np.int64)
+    longest = counts.max() + 1 if counts.shape[0] else 0
+    xs = np.empty(longest, dtype=np.float64)
+    ys = np.empty(longest, dtype=np.float64)
+    ts = np.empty(longest, dtype=np.float64)
+    for i in range(counts.shape[0]):
+        n = counts[i]
+        for j in range(n + 1):
+            f = np.float64(j) / np.float64(n)
+            xs[j], ys[j], ts[j] = arc_pose(
+                poses[i, 0], poses[i, 1], poses[i, 2], dtheta[i] * f, ds[i] * f
+            )
+        n_cand = _candidate_boxes(
+            xs[: n + 1].min(), xs[: n + 1].max(), ys[: n + 1].min(), ys[: n + 1].max(), reach,
+            cx, cy, hx, hy, cand,
+        )
+        event[i] = EVENT_NONE
+        stop[i] = n
+        for j in range(n + 1):
+            if _pose_may_collide(
+                xs[j], ys[j], reach, cx, cy, hx, hy, cand, n_cand, size
+            ) and _pose_collides(
+                xs[j], ys[j], np.cos(ts[j]), np.sin(ts[j]), a, b, cx, cy, hx, hy, cand, n_cand,
+                size,
+            ):
+                event[i] = EVENT_COLLIDED
+                stop[i] = max(j - 1, 0)
+                break
+            if np.hypot(xs[j] - goals[i, 0], ys[j] - goals[i, 1]) <= goal_radius:
+                event[i] = EVENT_REACHED
+                stop[i] = j
+                break
+        k = stop[i]
+        end[i, 0] = xs[k]
+        end[i, 1] = ys[k]
+        end[i, 2] = ts[k]
+
+
 _first_hit_numba: Callable[..., None] | None
+_events_numba: Callable[..., None] | None
 _broad_phase_numba: Callable[..., None] | None
 try:
     from numba import njit
 
-    # No fastmath: verdicts must round exactly like the numpy backend.
+    # No fastmath: verdicts must round exactly like the numpy backend. The scalar helpers are
+    # compiled first so that the loops calling them (here and in the engine) compile against them.
+    _candidate_boxes = njit(cache=True)(_candidate_boxes)
+    _pose_may_collide = njit(cache=True)(_pose_may_collide)
+    _pose_collides = njit(cache=True)(_pose_collides)
     _first_hit_numba = njit(cache=True)(_first_hit_loop)
+    _events_numba = njit(cache=True)(_events_loop)
     _broad_phase_numba = njit(cache=True)(_broad_phase_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
     _first_hit_numba = None
+    _events_numba = None
     _broad_phase_numba = None
 
 
@@ -304,6 +402,59 @@ def first_collisions(
     local = np.where(hit, j, big)
     first = np.minimum.reduceat(local, off[:-1]) if off.shape[0] > 1 else local[:0]
     return np.where(first == big, NO_COLLISION, first - off[:-1])
+
+
+def swept_events(
+    poses: ArrayLike, dtheta: ArrayLike, ds: ArrayLike, counts: ArrayLike, goals: ArrayLike,
+    profile: RobotProfile, world: World, *, backend: Backend = "auto",
+) -> tuple[NDArray[np.int8], IntArray, FloatArray]:
+    """What ends each decision's arc first, sampled as :func:`swept_samples` with ``counts``.
+
+    A robot reaches its goal at the first sample within ``profile.goal_radius`` of
+    ``goals[i]``, unless a sample at or before it collides (:func:`first_collisions`); it
+    collides at the first colliding sample and stops at the one before it (at the start when
+    the start collides); otherwise it ends at the arc's end.
+
+    Returns:
+        ``(event (n,), stop (n,), end (n, 3))``: ``EVENT_NONE``, ``EVENT_REACHED`` or
+        ``EVENT_COLLIDED``; the sample index the robot stops at (``counts[i]`` at the arc's
+        end); that sample's pose. Both backends give bit-identical results.
+    """
+    p = np.ascontiguousarray(poses, dtype=np.float64).reshape(-1, 3)
+    n = np.ascontiguousarray(counts, dtype=np.int64).reshape(-1)
+    dth = np.ascontiguousarray(np.broadcast_to(np.asarray(dtheta, dtype=np.float64), n.shape))
+    dist = np.ascontiguousarray(np.broadcast_to(np.asarray(ds, dtype=np.float64), n.shape))
+    g = np.ascontiguousarray(goals, dtype=np.float64).reshape(-1, 2)
+    radius = float(profile.goal_radius)
+    if _use_numba(backend) and _events_numba is not None:
+        event = np.empty(n.shape[0], dtype=np.int8)
+        stop = np.empty(n.shape[0], dtype=np.int64)
+        end = np.empty((n.shape[0], 3), dtype=np.float64)
+        _events_numba(
+            p, dth, dist, n, g, radius, 0.5 * float(profile.length), 0.5 * float(profile.width),
+            *_box_arrays(world.obstacles), float(world.size), event, stop, end,
+        )
+        return event, stop, end
+    samples, offsets = swept_samples(p, dth, dist, n)
+    hit = first_collisions(samples, offsets, profile, world, backend=backend)
+    arrive = _first_within(samples, offsets, g, radius)
+    hit_at = np.where(hit < 0, _NO_EVENT, hit)
+    got = arrive < hit_at
+    crash = ~got & (hit >= 0)
+    stop = np.where(got, arrive, np.where(crash, np.maximum(hit - 1, 0), n))
+    event = np.where(got, EVENT_REACHED, np.where(crash, EVENT_COLLIDED, EVENT_NONE))
+    return event.astype(np.int8), stop, samples[offsets[:-1] + stop]
+
+
+def _first_within(
+    samples: FloatArray, offsets: IntArray, goals: FloatArray, radius: float
+) -> IntArray:
+    """Per robot, the first sample index within ``radius`` of its goal, else ``_NO_EVENT``."""
+    goal = np.repeat(goals, np.diff(offsets), axis=0)
+    within = np.hypot(samples[:, 0] - goal[:, 0], samples[:, 1] - goal[:, 1]) <= radius
+    rows = np.arange(samples.shape[0], dtype=np.int64)
+    first = np.minimum.reduceat(np.where(within, rows, _NO_EVENT), offsets[:-1])
+    return np.where(first == _NO_EVENT, _NO_EVENT, first - offsets[:-1])
 
 
 def robot_collides(

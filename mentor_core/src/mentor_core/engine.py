@@ -24,12 +24,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.collision import (
     BROAD_PHASE_SLACK,
+    EVENT_COLLIDED,
+    EVENT_REACHED,
     MAX_SAMPLE_ANGLE,
-    first_collisions,
     sample_counts,
     sweep_bounds,
     sweep_may_collide,
-    swept_samples,
+    swept_events,
 )
 from mentor_core.kinematics import unicycle_arc, wrap_angle
 from mentor_core.robots import RobotProfile
@@ -39,8 +40,6 @@ from mentor_core.world import World
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
-
-_NO_EVENT = np.iinfo(np.int64).max
 
 
 @dataclass(frozen=True)
@@ -154,7 +153,8 @@ class BatchEngine:
         crash = np.zeros(idx.size, dtype=np.bool_)
         # Broad phase: only decisions whose sweep comes near a box, a wall or the goal are
         # sampled; the others end at the arc's end (the same pose as its last sample).
-        centre, radius = sweep_bounds(start, dth, dist)
+        bounds = sweep_bounds(start, dth, dist)
+        centre, radius = bounds
         goal = self._goals[idx]
         near_goal = np.hypot(centre[:, 0] - goal[:, 0], centre[:, 1] - goal[:, 1]) <= (
             radius + (self.profile.goal_radius + BROAD_PHASE_SLACK)
@@ -162,7 +162,8 @@ class BatchEngine:
         near = np.flatnonzero(
             near_goal
             | sweep_may_collide(
-                start, dth, dist, self.profile, self.world, backend=self.backend
+                start, dth, dist, self.profile, self.world, backend=self.backend,
+                bounds=bounds,
             )
         )
         if near.size:
@@ -170,18 +171,12 @@ class BatchEngine:
                 dth[near], dist[near], self.profile,
                 max_sample_step=self.max_sample_step, max_sample_angle=self.max_sample_angle,
             )
-            samples, offsets = swept_samples(start[near], dth[near], dist[near], counts)
-            hit = first_collisions(
-                samples, offsets, self.profile, self.world, backend=self.backend
+            event, stop, end[near] = swept_events(
+                start[near], dth[near], dist[near], counts, goal[near], self.profile,
+                self.world, backend=self.backend,
             )
-            arrive = _first_within(samples, offsets, goal[near], self.profile.goal_radius)
-            hit_at = np.where(hit < 0, _NO_EVENT, hit)
-            got[near] = arrive < hit_at
-            crash[near] = ~got[near] & (hit >= 0)
-            stop = np.where(
-                got[near], arrive, np.where(crash[near], np.maximum(hit - 1, 0), counts)
-            )
-            end[near] = samples[offsets[:-1] + stop]
+            got[near] = event == EVENT_REACHED
+            crash[near] = event == EVENT_COLLIDED
             stop_fraction[near] = stop / counts
         self._poses[idx] = end
         collided[idx] = crash
@@ -189,13 +184,3 @@ class BatchEngine:
         fraction[idx] = stop_fraction
         return StepResult(collided, reached, fraction)
 
-
-def _first_within(
-    samples: FloatArray, offsets: IntArray, goals: FloatArray, radius: float
-) -> IntArray:
-    """Per robot, the first sample index within ``radius`` of its goal, else ``_NO_EVENT``."""
-    goal = np.repeat(goals, np.diff(offsets), axis=0)
-    within = np.hypot(samples[:, 0] - goal[:, 0], samples[:, 1] - goal[:, 1]) <= radius
-    rows = np.arange(samples.shape[0], dtype=np.int64)
-    first = np.minimum.reduceat(np.where(within, rows, _NO_EVENT), offsets[:-1])
-    return np.where(first == _NO_EVENT, _NO_EVENT, first - offsets[:-1])

@@ -65,26 +65,39 @@ def _arc_numpy(
     out[:, 2] = wrap_angle(theta + dtheta)
 
 
+def arc_pose(
+    x: float, y: float, theta: float, dtheta: float, ds: float
+) -> tuple[float, float, float]:
+    """One end pose of the arc, scalar (compiled by numba; ``%`` is Python's floor modulo, as
+    ``np.mod``). Every compiled caller (:func:`_arc_loop`, the engine's narrow phase) moves
+    robots with this one function, so they agree bit for bit."""
+    half = 0.5 * dtheta
+    chord = ds if half == 0.0 else ds * (math.sin(half) / half)
+    mid = theta + half
+    return (
+        x + chord * math.cos(mid),
+        y + chord * math.sin(mid),
+        math.pi - ((math.pi - (theta + dtheta)) % TWO_PI),
+    )
+
+
 def _arc_loop(
     x: FloatArray, y: FloatArray, theta: FloatArray, dtheta: FloatArray, ds: FloatArray,
     out: FloatArray,
 ) -> None:
-    """Scalar twin of :func:`_arc_numpy` (compiled by numba; ``%`` is Python's floor modulo,
-    as ``np.mod``)."""
+    """Scalar twin of :func:`_arc_numpy`: :func:`arc_pose` per robot (compiled by numba)."""
     for i in range(x.shape[0]):
-        half = 0.5 * dtheta[i]
-        chord = ds[i] if half == 0.0 else ds[i] * (math.sin(half) / half)
-        mid = theta[i] + half
-        out[i, 0] = x[i] + chord * math.cos(mid)
-        out[i, 1] = y[i] + chord * math.sin(mid)
-        out[i, 2] = math.pi - ((math.pi - (theta[i] + dtheta[i])) % TWO_PI)
+        out[i, 0], out[i, 1], out[i, 2] = arc_pose(x[i], y[i], theta[i], dtheta[i], ds[i])
 
 
 _arc_numba: Callable[..., None] | None
 try:
     from numba import njit
 
-    _arc_numba = njit(cache=True)(_arc_loop)  # no fastmath: IEEE rounding throughout
+    # no fastmath: IEEE rounding throughout; arc_pose is compiled first so that the loops
+    # calling it (here and in the engine) compile against it
+    arc_pose = njit(cache=True)(arc_pose)
+    _arc_numba = njit(cache=True)(_arc_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file
     _arc_numba = None
 

@@ -87,6 +87,68 @@ def _cast_numpy(
     return best
 
 
+def _box_scratch(n: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Room for the corners of ``n`` culled boxes, ``x0s, y0s, x1s, y1s`` (compiled by
+    numba)."""
+    return (np.empty(n, dtype=np.float64), np.empty(n, dtype=np.float64),
+            np.empty(n, dtype=np.float64), np.empty(n, dtype=np.float64))
+
+
+def _near_boxes(
+    gx: float, gy: float, cull: float, boxes: FloatArray, x0s: FloatArray, y0s: FloatArray,
+    x1s: FloatArray, y1s: FloatArray,
+) -> int:
+    """Copies the boxes within ``cull`` of ``(gx, gy)`` (axis gap) into ``x0s .. y1s``;
+    returns their number (compiled by numba)."""
+    n_cand = 0
+    for b in range(boxes.shape[0]):
+        far_x = max(boxes[b, 0] - gx, gx - boxes[b, 2])
+        far_y = max(boxes[b, 1] - gy, gy - boxes[b, 3])
+        if max(far_x, far_y) <= cull:
+            x0s[n_cand] = boxes[b, 0]
+            y0s[n_cand] = boxes[b, 1]
+            x1s[n_cand] = boxes[b, 2]
+            y1s[n_cand] = boxes[b, 3]
+            n_cand += 1
+    return n_cand
+
+
+def _ray_distance(
+    x: float, y: float, dx: float, dy: float, x0s: FloatArray, y0s: FloatArray,
+    x1s: FloatArray, y1s: FloatArray, n_cand: int, size: float,
+) -> float:
+    """Distance along one ray to the arena walls or the first of the ``n_cand`` boxes
+    (compiled by numba); every arithmetic step is the numpy backend's."""
+    inf = np.inf
+    tx = (size - x) / dx if dx > 0.0 else ((0.0 - x) / dx if dx < 0.0 else inf)
+    ty = (size - y) / dy if dy > 0.0 else ((0.0 - y) / dy if dy < 0.0 else inf)
+    best = min(tx, ty)
+    ix = 1.0 / dx if dx != 0.0 else 0.0
+    iy = 1.0 / dy if dy != 0.0 else 0.0
+    for m in range(n_cand):
+        t1 = (x0s[m] - x) * ix
+        t2 = (x1s[m] - x) * ix
+        t3 = (y0s[m] - y) * iy
+        t4 = (y1s[m] - y) * iy
+        tx_in = min(t1, t2)
+        tx_out = max(t1, t2)
+        ty_in = min(t3, t4)
+        ty_out = max(t3, t4)
+        if dx == 0.0:  # parallel to the x slab: inside it for all t or for none
+            inside = x0s[m] <= x and x <= x1s[m]
+            tx_in = -inf if inside else inf
+            tx_out = inf if inside else -inf
+        if dy == 0.0:
+            inside = y0s[m] <= y and y <= y1s[m]
+            ty_in = -inf if inside else inf
+            ty_out = inf if inside else -inf
+        t_near = max(tx_in, ty_in)
+        t_far = min(tx_out, ty_out)
+        d = max(t_near, 0.0) if (t_near <= t_far and t_far >= 0.0) else inf
+        best = min(best, d)
+    return best
+
+
 def _cast_loop(
     ox: FloatArray, oy: FloatArray, ux: FloatArray, uy: FloatArray, group: int,
     gx: FloatArray, gy: FloatArray, reach: float, boxes: FloatArray, size: float,
@@ -101,66 +163,58 @@ def _cast_loop(
     contiguous arrays so that the inner loop runs without branches). Every arithmetic step is
     the numpy backend's, so the two agree bit for bit.
     """
-    inf = np.inf
-    n_boxes = boxes.shape[0]
-    x0s = np.empty(n_boxes, dtype=np.float64)
-    y0s = np.empty(n_boxes, dtype=np.float64)
-    x1s = np.empty(n_boxes, dtype=np.float64)
-    y1s = np.empty(n_boxes, dtype=np.float64)
+    x0s, y0s, x1s, y1s = _box_scratch(boxes.shape[0])
     cull = max_range + reach + CULL_SLACK
     for g in range(gx.shape[0]):
-        n_cand = 0
-        for b in range(n_boxes):
-            far_x = max(boxes[b, 0] - gx[g], gx[g] - boxes[b, 2])
-            far_y = max(boxes[b, 1] - gy[g], gy[g] - boxes[b, 3])
-            if max(far_x, far_y) <= cull:
-                x0s[n_cand] = boxes[b, 0]
-                y0s[n_cand] = boxes[b, 1]
-                x1s[n_cand] = boxes[b, 2]
-                y1s[n_cand] = boxes[b, 3]
-                n_cand += 1
+        n_cand = _near_boxes(gx[g], gy[g], cull, boxes, x0s, y0s, x1s, y1s)
         for i in range(g * group, (g + 1) * group):
-            x = ox[i]
-            y = oy[i]
-            dx = ux[i]
-            dy = uy[i]
-            tx = (size - x) / dx if dx > 0.0 else ((0.0 - x) / dx if dx < 0.0 else inf)
-            ty = (size - y) / dy if dy > 0.0 else ((0.0 - y) / dy if dy < 0.0 else inf)
-            best = min(tx, ty)
-            ix = 1.0 / dx if dx != 0.0 else 0.0
-            iy = 1.0 / dy if dy != 0.0 else 0.0
-            for m in range(n_cand):
-                t1 = (x0s[m] - x) * ix
-                t2 = (x1s[m] - x) * ix
-                t3 = (y0s[m] - y) * iy
-                t4 = (y1s[m] - y) * iy
-                tx_in = min(t1, t2)
-                tx_out = max(t1, t2)
-                ty_in = min(t3, t4)
-                ty_out = max(t3, t4)
-                if dx == 0.0:  # parallel to the x slab: inside it for all t or for none
-                    inside = x0s[m] <= x and x <= x1s[m]
-                    tx_in = -inf if inside else inf
-                    tx_out = inf if inside else -inf
-                if dy == 0.0:
-                    inside = y0s[m] <= y and y <= y1s[m]
-                    ty_in = -inf if inside else inf
-                    ty_out = inf if inside else -inf
-                t_near = max(tx_in, ty_in)
-                t_far = min(tx_out, ty_out)
-                d = max(t_near, 0.0) if (t_near <= t_far and t_far >= 0.0) else inf
-                best = min(best, d)
-            out[i] = best
+            out[i] = _ray_distance(ox[i], oy[i], ux[i], uy[i], x0s, y0s, x1s, y1s, n_cand, size)
+
+
+def _readings_loop(
+    poses: FloatArray, c: FloatArray, s: FloatArray, mounts: FloatArray, ux: FloatArray,
+    uy: FloatArray, reach: float, boxes: FloatArray, size: float, max_range: float,
+    out: FloatArray,
+) -> None:
+    """:func:`sensor_readings` of every robot in one pass (compiled by numba): robot ``g``'s
+    sensor ``i`` sits at its mount (``c``, ``s`` the cos and sin of its heading, the same
+    products as :func:`sensor_frames`) and casts the rays ``ux[g, i, :]``, ``uy[g, i, :]``
+    (numpy's cos and sin of the rays' map-frame angles); its reading is the nearest hit within
+    ``max_range``, else +inf."""
+    x0s, y0s, x1s, y1s = _box_scratch(boxes.shape[0])
+    cull = max_range + reach + CULL_SLACK
+    for g in range(poses.shape[0]):
+        x = poses[g, 0]
+        y = poses[g, 1]
+        n_cand = _near_boxes(x, y, cull, boxes, x0s, y0s, x1s, y1s)
+        for i in range(mounts.shape[0]):
+            mx = mounts[i, 0]
+            my = mounts[i, 1]
+            ox = x + (mx * c[g] - my * s[g])
+            oy = y + (mx * s[g] + my * c[g])
+            nearest = np.inf
+            for r in range(ux.shape[2]):
+                d = _ray_distance(ox, oy, ux[g, i, r], uy[g, i, r], x0s, y0s, x1s, y1s,
+                                  n_cand, size)
+                nearest = min(nearest, np.inf if d > max_range else d)
+            out[g, i] = nearest
 
 
 _cast_numba: Callable[..., None] | None
+_readings_numba: Callable[..., None] | None
 try:
     from numba import njit
 
-    # No fastmath: the kernel must round exactly like the numpy backend.
+    # No fastmath: the kernels must round exactly like the numpy backend. The scalar helpers
+    # are compiled first so that the loops calling them compile against them.
+    _box_scratch = njit(cache=True)(_box_scratch)
+    _near_boxes = njit(cache=True)(_near_boxes)
+    _ray_distance = njit(cache=True)(_ray_distance)
     _cast_numba = njit(cache=True)(_cast_loop)
+    _readings_numba = njit(cache=True)(_readings_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
     _cast_numba = None
+    _readings_numba = None
 
 HAVE_NUMBA = _cast_numba is not None
 
@@ -257,16 +311,31 @@ def sensor_readings(
     """Range readings ``(n, n_sensors)`` (m, ``+inf`` beyond ``profile.sensor_range``).
 
     Reading ``i`` comes from ``profile.sensors[i]``: the nearest hit of its beam's rays
-    (:func:`beam_frames`; one ray for a zero-width beam).
+    (:func:`beam_frames`; one ray for a zero-width beam). The numba backend does each robot's
+    mounts, box culling, rays and range cut in one compiled loop (:func:`_readings_loop`),
+    without the frames' temporaries; the readings are the numpy backend's, bit for bit.
     """
-    p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    frames = beam_frames(p, profile)
+    p = np.ascontiguousarray(poses, dtype=np.float64).reshape(-1, 3)
     # one robot's rays share a box culling: its mounts all lie within `reach` of its centre
     reach = max(float(np.hypot(m.x, m.y)) for m in profile.sensors)
+    if _use_numba(backend) and _readings_numba is not None:
+        mounts = np.array([(m.x, m.y, m.angle) for m in profile.sensors], dtype=np.float64)
+        facing = p[:, 2, None] + mounts[None, :, 2]  # as sensor_frames, then beam_frames
+        rays = facing[:, :, None] if profile.beam_rays == 1 else (
+            facing[:, :, None] + profile.beam_offsets
+        )
+        readings = np.empty((p.shape[0], mounts.shape[0]), dtype=np.float64)
+        _readings_numba(
+            p, np.cos(p[:, 2]), np.sin(p[:, 2]), mounts, np.cos(rays), np.sin(rays), reach,
+            np.ascontiguousarray(world.obstacles, dtype=np.float64).reshape(-1, 4),
+            float(world.size), float(profile.sensor_range), readings,
+        )
+        return readings
+    frames = beam_frames(p, profile)
     dist = _cast(
         frames[..., :2].reshape(-1, 2), frames[..., 2].reshape(-1), world.obstacles,
         world.size, profile.sensor_range, backend, profile.n_sensors * profile.beam_rays,
         p[:, :2], reach,
     )
-    readings: FloatArray = dist.reshape(frames.shape[:3]).min(axis=2)
-    return readings
+    found: FloatArray = dist.reshape(frames.shape[:3]).min(axis=2)
+    return found
