@@ -94,6 +94,10 @@ def test_cli_draws_a_sampled_world(tmp_path: Path) -> None:
     out = tmp_path / "s.png"
     assert main(["--robot", "swarm", "--seed", "2", "--scenario", "3", "--out", str(out)]) == 0
     assert out.read_bytes().startswith(PNG_MAGIC)
+    plain, walled = tmp_path / "plain.png", tmp_path / "walls.png"
+    assert main(["--robot", "ugv", "--out", str(plain)]) == 0
+    assert main(["--robot", "ugv", "--walls", "1", "2", "--out", str(walled)]) == 0
+    assert walled.read_bytes() != plain.read_bytes()  # the shipped configs' training world
 
 
 @pytest.mark.parametrize(
@@ -102,6 +106,7 @@ def test_cli_draws_a_sampled_world(tmp_path: Path) -> None:
         (["--robot", "ugv", "--world", "{tmp}/missing.yaml"], "{tmp}/missing.yaml: cannot read"),
         (["--robot", "tank"], "unknown robot 'tank'"),
         (["--robot", "swarm", "--scenario", "99"], "scenario 99 does not exist"),
+        (["--robot", "ugv", "--walls", "2", "1"], "wall_count"),
     ],
 )
 def test_cli_bad_input_one_line_exit_2(

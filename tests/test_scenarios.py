@@ -62,6 +62,58 @@ def test_doe_config_rejects_bad_values() -> None:
         DoEConfig(sparse_count=(3, 1))
 
 
+def test_walled_worlds_have_long_walls_with_passages() -> None:
+    """Walls in the DoE: their number, length, thickness; a passage between walls and beside
+    a free wall's ends; no box left too close to a wall; both kinds of wall appear."""
+    size = 12.0
+    cfg = DoEConfig(wall_count=(1, 3))
+    passage = cfg.wall_passage_fraction * size
+    anchored = free = 0
+    for seed in range(30):
+        world = sample_world(size, np.random.default_rng(seed), cfg)
+        b = world.obstacles
+        long_side = np.maximum(b[:, 2] - b[:, 0], b[:, 3] - b[:, 1])
+        is_wall = long_side >= cfg.wall_length_fraction[0] * size - 1e-9
+        walls, boxes = b[is_wall], b[~is_wall]
+        assert 1 <= len(walls) <= 3 and (b[: len(walls)] == walls).all()  # walls come first
+        short_side = np.minimum(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+        np.testing.assert_allclose(short_side, cfg.wall_thickness_fraction * size)
+        assert (long_side[is_wall] <= cfg.wall_length_fraction[1] * size + 1e-9).all()
+        for i, w in enumerate(walls):
+            touches = min(w[0], w[1]) <= 1e-9 or max(w[2], w[3]) >= size - 1e-9
+            anchored += touches
+            free += not touches
+            if not touches:
+                assert min(w[0], w[1]) >= passage - 1e-9
+                assert max(w[2], w[3]) <= size - passage + 1e-9
+            for other in walls[i + 1 :]:
+                apart_x = max(other[0] - w[2], w[0] - other[2])
+                apart_y = max(other[1] - w[3], w[1] - other[3])
+                assert max(apart_x, apart_y) >= passage - 1e-9
+            gap = cfg.gap_fraction * size
+            for box in boxes:
+                assert max(box[0] - w[2], w[0] - box[2], box[1] - w[3], w[1] - box[3]) >= gap
+    assert anchored > 5 and free > 5
+
+
+def test_walls_leave_the_papers_worlds_alone_and_travel_in_configs() -> None:
+    rng_a, rng_b = np.random.default_rng(3), np.random.default_rng(3)
+    assert sample_world(12.0, rng_a) == sample_world(12.0, rng_b, DoEConfig(wall_count=(0, 0)))
+    walled = DoEConfig(wall_count=(1, 2), wall_length_fraction=(0.4, 0.5))
+    assert DoEConfig.from_dict(walled.to_dict()) == walled
+    assert DoEConfig.from_dict({"wall_count": [1, 2], "wall_length_fraction": [0.4, 0.5]}) \
+        == walled
+    for bad, key in (({"walls": 2}, "doe.walls"), ({"wall_count": 2}, "doe.wall_count"),
+                     ({"wall_count": [2, 1]}, "doe.wall_count"),
+                     ({"wall_count": [1.5, 2]}, "doe.wall_count"),
+                     ({"wall_length_fraction": [0.5, 0.9]}, "doe.wall_length_fraction"),
+                     ({"wall_anchor_share": "half"}, "doe.wall_anchor_share"),
+                     ({"wall_passage_fraction": 0.5}, "doe.wall_passage_fraction")):
+        with pytest.raises(ConfigError, match=key.replace(".", r"\.")) as err:
+            DoEConfig.from_dict(bad, "my.yaml")
+        assert "my.yaml" in str(err.value)
+
+
 @pytest.mark.parametrize("robot", ["ugv", "swarm"])
 def test_sampled_scenarios_are_free_and_in_range(robot: str) -> None:
     profile = get_profile(robot)

@@ -76,6 +76,11 @@ def test_run_directory_holds_what_the_brief_lists(dual_run: Path) -> None:
     assert len({sc.world.name for sc in spread}) == 2
     with pytest.raises(ConfigError, match="training_worlds"):  # the Swarm-Robot's 20 scenarios
         make_problem(tiny(n_scenarios=None, training_worlds=21))
+    plain = make_problem(tiny()).scenarios[0].world
+    walled = TrainerConfig.from_dict({**tiny().to_dict(), "doe": {"wall_count": [2, 2]}})
+    world = make_problem(walled).scenarios[0].world
+    long_side = np.maximum(*(world.obstacles[:, 2:] - world.obstacles[:, :2]).T)
+    assert (long_side >= 0.35 * world.size).sum() == 2 and world != plain
     pareto = json.loads((dual_run / "pareto.json").read_text())
     assert pareto["front"] and len(pareto["points"]) == 8
 
@@ -122,7 +127,7 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
         train(tiny(), tmp_path, seed=3, resume=True)
     # written before the sensor record and the newer config keys: resumed as it was meant
     del state["sensors"]
-    for key in ("training_worlds", "step_max", "step_min", "clearance_margin"):
+    for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe"):
         del state["config"][key]
     checkpoint.write_text(json.dumps(state))
     train(tiny(), tmp_path, seed=3, resume=True)
@@ -160,6 +165,8 @@ def test_pool_backend_is_bit_identical_to_in_process() -> None:
         ({"clearance_margin": -1}, "clearance_margin"),
         ({"training_worlds": 0}, "training_worlds"),
         ({"n_scenarios": 2, "training_worlds": 3}, "training_worlds"),
+        ({"doe": {"wall_count": [3, 1]}}, "doe.wall_count"),
+        ({"doe": [1, 2]}, "doe"),
     ],
 )
 def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:

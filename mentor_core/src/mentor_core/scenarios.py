@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from mentor_core.errors import ConfigError
+from mentor_core.errors import ConfigError, is_number
 from mentor_core.robots import RobotProfile
 from mentor_core.world import Scenario, World
 
@@ -30,6 +31,8 @@ CLEARANCE_FACTOR = 1.25
 # not depend on how many are asked for
 _BATCH = 256
 _MAX_ROUNDS = 400
+# draws of walls of one world, accepted or not
+_WALL_TRIES = 200
 
 
 @dataclass(frozen=True)
@@ -44,6 +47,14 @@ class DoEConfig:
         gap_fraction: least gap between two obstacles, and twice the least gap between an
             obstacle and its grid's border, / arena side.
         max_rounds: Latin hypercube rounds per grid before it keeps the obstacles it has.
+        wall_count: inclusive (min, max) number of long walls across the grids (the paper:
+            none, ``(0, 0)``); see :func:`sample_world`.
+        wall_length_fraction: (min, max) wall length / arena side.
+        wall_thickness_fraction: wall thickness / arena side.
+        wall_anchor_share: probability that a wall starts at the arena's border (a wall
+            that closes part of the arena off, as a corridor's) rather than standing free.
+        wall_passage_fraction: least gap between two walls, and between a free wall's ends
+            and the border, / arena side: a passage wide enough to drive through.
     """
 
     grids_per_side: int = 2
@@ -53,8 +64,45 @@ class DoEConfig:
     size_fraction: tuple[float, float] = (0.03, 0.10)
     gap_fraction: float = 0.02
     max_rounds: int = 50
+    wall_count: tuple[int, int] = (0, 0)
+    wall_length_fraction: tuple[float, float] = (0.35, 0.65)
+    wall_thickness_fraction: float = 0.025
+    wall_anchor_share: float = 0.5
+    wall_passage_fraction: float = 0.125
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], source: str = "<dict>") -> DoEConfig:
+        """Build from a plain mapping (YAML lists for the pairs); ConfigError naming the key
+        for an unknown key or a bad value."""
+        if not isinstance(data, dict):
+            raise ConfigError("must be a mapping", key="doe", path=source)
+        kwargs: dict[str, Any] = {}
+        for key, value in data.items():
+            if key not in cls.__dataclass_fields__:
+                raise ConfigError("unknown key", key=f"doe.{key}", path=source)
+            pair = isinstance(getattr(cls, key), tuple)
+            if pair and not (isinstance(value, list | tuple) and len(value) == 2):
+                raise ConfigError("must be a pair [min, max]", key=f"doe.{key}", path=source)
+            kwargs[key] = tuple(value) if pair else value
+        try:
+            return cls(**kwargs)
+        except ConfigError as err:
+            raise ConfigError(
+                str(err).split(": ", 1)[-1], key=f"doe.{err.key}", path=source
+            ) from None
+
+    def to_dict(self) -> dict[str, Any]:
+        """A plain mapping (lists for the pairs) that :meth:`from_dict` turns back."""
+        return {
+            f: list(v) if isinstance(v, tuple) else v
+            for f, v in ((f, getattr(self, f)) for f in self.__dataclass_fields__)
+        }
 
     def __post_init__(self) -> None:
+        for key, value in ((f, getattr(self, f)) for f in self.__dataclass_fields__):
+            items = value if isinstance(value, tuple) else (value,)
+            if not all(is_number(v) for v in items):
+                raise ConfigError("must be a number, or a pair of numbers", key=key)
         if self.grids_per_side < 1:
             raise ConfigError("must be >= 1", key="grids_per_side")
         if not 0 <= self.crowded_grids <= self.grids_per_side**2:
@@ -72,6 +120,24 @@ class DoEConfig:
             raise ConfigError("largest obstacle plus gap must fit in a grid", key="size_fraction")
         if self.max_rounds < 1:
             raise ConfigError("must be >= 1", key="max_rounds")
+        if not (isinstance(self.wall_count[0], int) and isinstance(self.wall_count[1], int)
+                and 0 <= self.wall_count[0] <= self.wall_count[1]):
+            raise ConfigError("must be whole numbers (min, max), 0 <= min <= max",
+                              key="wall_count")
+        passage = self.wall_passage_fraction
+        if not 0.0 < passage < 0.5:
+            raise ConfigError("must be in (0, 0.5)", key="wall_passage_fraction")
+        lo_w, hi_w = self.wall_length_fraction
+        if not 0.0 < lo_w <= hi_w <= 1.0 - 2.0 * passage:
+            raise ConfigError(
+                "must be (min, max) with 0 < min <= max <= 1 - 2 wall_passage_fraction",
+                key="wall_length_fraction",
+            )
+        if not 0.0 < self.wall_thickness_fraction <= 1.0 - 2.0 * passage:
+            raise ConfigError("must be in (0, 1 - 2 wall_passage_fraction]",
+                              key="wall_thickness_fraction")
+        if not 0.0 <= self.wall_anchor_share <= 1.0:
+            raise ConfigError("must be in [0, 1]", key="wall_anchor_share")
 
 
 def latin_hypercube(n: int, d: int, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -95,6 +161,15 @@ def sample_world(size: float, rng: np.random.Generator, cfg: DoEConfig | None = 
     ``gap`` apart and inside the arena. Inside a grid, a candidate closer than ``gap`` to an
     accepted box (in both x and y) is rejected and a fresh LHS round is drawn for the missing
     ones; a grid that is still short after ``max_rounds`` rounds keeps fewer obstacles.
+
+    Walls (``cfg.wall_count``, none in the paper's DoE) come after the grids: each an
+    axis-aligned bar of a uniform length and the configured thickness, horizontal or vertical
+    with even odds; with probability ``wall_anchor_share`` one end sits on the arena's border
+    (either end, even odds), else it stands free with a passage to the border at both ends;
+    its position across is uniform with a passage to the border. A wall closer than a passage
+    to an earlier wall is drawn again (at most ``_WALL_TRIES`` draws in all), and the grids'
+    boxes closer than ``gap`` to a wall are removed. Without walls no draw is made, so the
+    paper's worlds do not change.
     """
     cfg = DoEConfig() if cfg is None else cfg
     if not math.isfinite(size) or size <= 0.0:
@@ -109,7 +184,38 @@ def sample_world(size: float, rng: np.random.Generator, cfg: DoEConfig | None = 
         count = int(rng.integers(lo, hi + 1))
         origin = (float(g % cfg.grids_per_side) * cell, float(g // cfg.grids_per_side) * cell)
         boxes.extend(_fill_grid(origin, cell, count, size, cfg, rng))
+    if cfg.wall_count[1] > 0:
+        walls = _draw_walls(size, cfg, rng)
+        gap = cfg.gap_fraction * size
+        boxes = walls + [b for b in boxes if not any(_too_close(b, w, gap) for w in walls)]
     return World(size=size, obstacles=np.array(boxes, dtype=np.float64).reshape(-1, 4))
+
+
+def _draw_walls(
+    size: float, cfg: DoEConfig, rng: np.random.Generator
+) -> list[NDArray[np.float64]]:
+    """The long walls of :func:`sample_world`, as boxes."""
+    count = int(rng.integers(cfg.wall_count[0], cfg.wall_count[1] + 1))
+    passage = cfg.wall_passage_fraction * size
+    thick = cfg.wall_thickness_fraction * size
+    walls: list[NDArray[np.float64]] = []
+    for _ in range(_WALL_TRIES):
+        if len(walls) == count:
+            break
+        length = rng.uniform(*cfg.wall_length_fraction) * size
+        horizontal = rng.random() < 0.5
+        if rng.random() < cfg.wall_anchor_share:
+            along = 0.0 if rng.random() < 0.5 else size - length
+        else:
+            along = rng.uniform(passage, size - passage - length)
+        across = rng.uniform(passage, size - passage - thick)
+        wall = np.array(
+            (along, across, along + length, across + thick) if horizontal
+            else (across, along, across + thick, along + length)
+        )  # fmt: skip
+        if not any(_too_close(wall, other, passage) for other in walls):
+            walls.append(wall)
+    return walls
 
 
 def _fill_grid(

@@ -43,7 +43,7 @@ from mentor_core.robots import (
     sensor_record,
     with_planner,
 )
-from mentor_core.scenarios import training_scenarios
+from mentor_core.scenarios import DoEConfig, training_scenarios
 
 Framework = Literal["single", "dual"]
 CHECKPOINT_FORMAT = "mentor-train-checkpoint"
@@ -51,6 +51,7 @@ CHECKPOINT_VERSION = 1
 # config keys added after checkpoint version 1 came out, with the value their absence meant
 _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
+    "doe": DoEConfig().to_dict(),
 }
 HISTORY_FIELDS = (
     "generation", "stage", "mode", "evaluations", "best_F", "mean_F", "best_G", "mean_G",
@@ -73,6 +74,8 @@ class TrainerConfig:
         scenario_seed: seed of the training worlds and their start/goal pairs.
         training_worlds: composite worlds the scenarios are spread over (the paper: 1);
             see ``mentor_core.scenarios.training_scenarios``.
+        doe: the training worlds' layout (``mentor_core.scenarios.DoEConfig``; the paper's
+            by default); in a config file a mapping of the fields to change.
         input_encoding: the network's goal inputs, ``"egocentric"`` (default) or ``"paper"``
             (``mentor_core.observation``); written into the best genome's metadata so that
             the planner node and mentor-eval feed the network the same way.
@@ -97,6 +100,7 @@ class TrainerConfig:
     n_scenarios: int | None = None
     scenario_seed: int = 0
     training_worlds: int = 1
+    doe: DoEConfig = field(default_factory=DoEConfig)
     input_encoding: str = "egocentric"
     heading_change_max_deg: float | None = None
     step_max: float | None = None
@@ -154,6 +158,7 @@ class TrainerConfig:
         """A plain dict that :meth:`from_dict` turns back into an equal config."""
         d = asdict(self)
         d["evolution"] = self.evolution.to_dict()
+        d["doe"] = self.doe.to_dict()
         return d
 
     @classmethod
@@ -175,6 +180,8 @@ class TrainerConfig:
             kwargs["evolution"] = EvolutionConfig.from_dict(merged, source)
         else:
             kwargs["evolution"] = base
+        if "doe" in kwargs:
+            kwargs["doe"] = DoEConfig.from_dict(kwargs["doe"] or {}, source)
         try:
             return cls(**kwargs)
         except ConfigError as err:
@@ -340,7 +347,7 @@ def make_problem(
             path=source,
         )
     scenarios = training_scenarios(
-        prof, config.scenario_seed, count, worlds=config.training_worlds
+        prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds
     )
     return NavigationProblem(prof, scenarios)
 

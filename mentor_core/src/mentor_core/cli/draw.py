@@ -3,9 +3,12 @@
 Examples::
 
     mentor-draw --robot ugv --seed 3 --scenario 5 --demo --out world.png
+    mentor-draw --robot ugv --walls 1 2 --out world.png   # the shipped configs' training world
     mentor-draw --robot swarm --world my_world.yaml --out world.png
 
-The world comes from a world file (``--world``) or is the training DoE of ``--seed``. Rays
+The world comes from a world file (``--world``) or is the training DoE of ``--seed`` (the
+paper's, or with ``--walls MIN MAX`` long walls as the shipped training configs'
+``doe: {wall_count: [1, 2]}``). Rays
 are read with the reference physics (:class:`mentor_core.pymunk_world.PymunkWorld`).
 ``--demo`` adds a naive straight-to-goal run (turn to the goal, step as far as allowed, stop
 at the goal radius, on a collision or when the time budget is spent). Bad input gives a
@@ -28,7 +31,7 @@ from mentor_core.kinematics import arc_samples, unicycle_arc, wrap_angle
 from mentor_core.plots import draw_world, new_figure, save_png
 from mentor_core.pymunk_world import PymunkWorld
 from mentor_core.robots import load_profiles
-from mentor_core.scenarios import training_scenarios
+from mentor_core.scenarios import DoEConfig, training_scenarios
 from mentor_core.world import Scenario, load_world
 
 PROG = "mentor-draw"
@@ -40,6 +43,10 @@ def build_parser() -> argparse.ArgumentParser:
     source = parser.add_mutually_exclusive_group()
     source.add_argument("--world", help="world file (YAML, format mentor-world)")
     source.add_argument("--seed", type=int, default=0, help="seed of the training DoE (0)")
+    parser.add_argument(
+        "--walls", type=int, nargs=2, metavar=("MIN", "MAX"), default=(0, 0),
+        help="long walls in the training DoE (default 0 0: the paper's; shipped configs: 1 2)",
+    )  # fmt: skip
     parser.add_argument("--scenario", type=int, help="scenario index to draw (default 0)")
     parser.add_argument("--demo", action="store_true", help="add a straight-to-goal run")
     parser.add_argument("--out", required=True, help="PNG file to write")
@@ -89,7 +96,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             world, scenarios = load_world(args.world)
             label = args.world
         else:
-            scenarios = training_scenarios(profile, args.seed)
+            doe = DoEConfig(wall_count=(args.walls[0], args.walls[1]))
+            scenarios = training_scenarios(profile, args.seed, cfg=doe)
             world, label = scenarios[0].world, f"{profile.name} training DoE, seed {args.seed}"
         index = args.scenario if args.scenario is not None else (0 if scenarios else None)
         if index is not None and not 0 <= index < len(scenarios):
