@@ -360,7 +360,7 @@ try:
     from numba import njit
 
     # No fastmath: verdicts must round exactly like the numpy backend. The scalar helpers are
-    # compiled first so that the loops calling them (here and in the engine) compile against them.
+    # compiled first so that the loops calling them compile against them.
     _candidate_boxes = njit(cache=True)(_candidate_boxes)
     _pose_may_collide = njit(cache=True)(_pose_may_collide)
     _pose_collides = njit(cache=True)(_pose_collides)

@@ -69,8 +69,9 @@ def arc_pose(
     x: float, y: float, theta: float, dtheta: float, ds: float
 ) -> tuple[float, float, float]:
     """One end pose of the arc, scalar (compiled by numba; ``%`` is Python's floor modulo, as
-    ``np.mod``). Every compiled caller (:func:`_arc_loop`, the engine's narrow phase) moves
-    robots with this one function, so they agree bit for bit."""
+    ``np.mod``). Every compiled caller (:func:`_arc_loop`, the narrow phase of
+    :func:`mentor_core.collision.swept_events`) moves robots with this one function, so they
+    agree bit for bit."""
     half = 0.5 * dtheta
     chord = ds if half == 0.0 else ds * (math.sin(half) / half)
     mid = theta + half
@@ -95,7 +96,7 @@ try:
     from numba import njit
 
     # no fastmath: IEEE rounding throughout; arc_pose is compiled first so that the loops
-    # calling it (here and in the engine) compile against it
+    # calling it (here and in collision) compile against it
     arc_pose = njit(cache=True)(arc_pose)
     _arc_numba = njit(cache=True)(_arc_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file
