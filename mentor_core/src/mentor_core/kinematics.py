@@ -96,7 +96,9 @@ try:
     from numba import njit
 
     # no fastmath: IEEE rounding throughout; arc_pose is compiled first so that the loops
-    # calling it (here and in collision) compile against it
+    # calling it (here and in collision) compile against it. numba's on-disk cache does not
+    # notice a change to a callee in another file: after editing arc_pose, clear the cache
+    # (NUMBA_CACHE_DIR) or collision's loop keeps the old one.
     arc_pose = njit(cache=True)(arc_pose)
     _arc_numba = njit(cache=True)(_arc_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file
