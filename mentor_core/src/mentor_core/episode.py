@@ -16,7 +16,6 @@ clipped to the sensor range and ``A = (dtheta, ds)``.
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -111,19 +110,20 @@ def _decision_limits(
 
 
 def _group_experience(
-    chunks: list[FloatArray], owners: list[IntArray], n: int, width: int
+    chunks: list[FloatArray], owners: list[IntArray], steps: IntArray, width: int
 ) -> tuple[FloatArray, ...]:
-    """Split the per-step experience rows into one array per robot, in decision order."""
-    if not chunks:
-        return tuple(np.zeros((0, width), dtype=np.float64) for _ in range(n))
-    rows = np.concatenate(chunks, axis=0)
-    owner = np.concatenate(owners)
-    # stable: keeps each robot's decisions in order; 16-bit keys sort by radix, in linear time
-    key = owner.astype(np.int16) if n <= np.iinfo(np.int16).max else owner
-    order = np.argsort(key, kind="stable")
-    bounds = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n))]).tolist()
-    grouped = rows[order]
-    return tuple(grouped[lo:hi] for lo, hi in itertools.pairwise(bounds))
+    """Split the per-decision experience rows into one array per robot, in decision order.
+
+    Chunk ``t`` holds decision ``t`` of the robots ``owners[t]``: a robot decides once in
+    every period from the first until it stops, so robot ``i``'s decision ``t`` is row
+    ``start[i] + t`` of one array with ``steps[i]`` rows per robot, filled without a sort.
+    """
+    ends = np.cumsum(steps)
+    starts = ends - steps
+    rows = np.empty((int(ends[-1]) if ends.size else 0, width), dtype=np.float64)
+    for t, (chunk, idx) in enumerate(zip(chunks, owners, strict=True)):
+        rows[starts[idx] + t] = chunk
+    return tuple(rows[lo:hi] for lo, hi in zip(starts.tolist(), ends.tolist(), strict=True))
 
 
 def run_episodes(
@@ -243,5 +243,5 @@ def _run_world(
         final_distance=engine.goal_distance(),
         steps=steps,
         trajectories=np.stack(trajectory, axis=1),
-        experience=_group_experience(chunks, owners, n, 2 * profile.n_sensors + 2),
+        experience=_group_experience(chunks, owners, steps, 2 * profile.n_sensors + 2),
     )
