@@ -201,3 +201,25 @@ def test_mentor_train_names_the_config_file_of_a_step_outside_the_robots(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "steps.yaml: step_min" in err[0]
     assert not (tmp_path / "run").exists()
+
+
+def test_a_runs_config_yaml_trains_the_run_again(
+    dual_run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A run directory's config.yaml (the resolved config plus the run's seed) is a config
+    file for mentor-train: the same config and seed give the same run; --seed overrides."""
+    from mentor_core.cli import train as train_cli
+
+    argv = ["--robot", "swarm", "--framework", "dual", "--config",
+            str(dual_run / "config.yaml"), "--quiet"]
+    assert train_cli.main([*argv, "--out", str(tmp_path / "again")]) == 0
+    assert "seed 3 ->" in capsys.readouterr().err
+    assert without_seconds(history_rows(tmp_path / "again")) == without_seconds(
+        history_rows(dual_run)
+    )
+    assert train_cli.main([*argv, "--seed", "4", "--out", str(tmp_path / "other")]) == 0
+    assert "seed 4 ->" in capsys.readouterr().err
+    bad = tmp_path / "bad.yaml"
+    bad.write_text((dual_run / "config.yaml").read_text().replace("seed: 3", "seed: three"))
+    assert train_cli.main([*argv[:-2], str(bad), "--out", str(tmp_path / "bad")]) == 2
+    assert "bad.yaml: seed: must be a whole number" in capsys.readouterr().err

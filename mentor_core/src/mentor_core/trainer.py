@@ -192,14 +192,28 @@ class TrainerConfig:
     @classmethod
     def from_yaml(cls, path: str | Path) -> TrainerConfig:
         """Load a YAML config file (FileFormatError if missing or not YAML)."""
-        p = Path(path)
-        try:
-            data = yaml.safe_load(p.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise FileFormatError(p, "no such file") from None
-        except yaml.YAMLError as err:
-            raise FileFormatError(p, f"not valid YAML ({_one_line(err)})") from None
-        return cls.from_dict(data or {}, str(p))
+        return cls.from_dict(_read_yaml(Path(path)), str(path))
+
+
+def load_config_file(path: str | Path) -> tuple[TrainerConfig, int | None]:
+    """A config file, or a run directory's ``config.yaml`` (the resolved config plus the run's
+    ``seed``): the config and that seed (None when the file has none). FileFormatError or
+    ConfigError naming the file as :meth:`TrainerConfig.from_yaml`."""
+    data = _read_yaml(Path(path))
+    seed = data.pop("seed", None) if isinstance(data, dict) else None
+    if seed is not None and not (isinstance(seed, int) and not isinstance(seed, bool)):
+        raise ConfigError("must be a whole number", key="seed", path=str(path))
+    return TrainerConfig.from_dict(data, str(path)), seed
+
+
+def _read_yaml(path: Path) -> Any:
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise FileFormatError(path, "no such file") from None
+    except yaml.YAMLError as err:
+        raise FileFormatError(path, f"not valid YAML ({_one_line(err)})") from None
+    return {} if data is None else data
 
 
 def _deep_update(base: dict[str, Any], extra: dict[str, Any]) -> None:

@@ -4,7 +4,10 @@
     mentor-train ... --resume          # continue a killed run; ends identical to an unbroken one
     mentor-train ... --workers 2       # local process pool; --ray auto | ADDRESS for Ray
 
-``--config`` takes a YAML file or the name of a shipped config (``quick``, ``paper``).
+``--config`` takes a YAML file or the name of a shipped config (``quick``, ``paper``). A run
+directory's ``config.yaml`` is such a file, with the run's seed: ``mentor-train --robot R
+--framework F --config runs/x/config.yaml --out runs/y`` trains run x again (``--seed``
+overrides the seed).
 """
 
 from __future__ import annotations
@@ -17,23 +20,38 @@ from typing import TextIO
 
 from mentor_core.errors import MentorError
 from mentor_core.evaluators import make_evaluator
-from mentor_core.trainer import GenerationRecord, TrainerConfig, make_problem, train
+from mentor_core.trainer import (
+    GenerationRecord,
+    TrainerConfig,
+    load_config_file,
+    make_problem,
+    train,
+)
 
 SHIPPED = ("quick", "paper")
 
 
 def resolve_config(robot: str, framework: str, config: str | None) -> TrainerConfig:
     """The config a command line asks for, with --robot and --framework applied."""
+    return resolve_run(robot, framework, config)[0]
+
+
+def resolve_run(
+    robot: str, framework: str, config: str | None
+) -> tuple[TrainerConfig, int | None]:
+    """:func:`resolve_config` and the seed the config file names (a run's ``config.yaml``
+    does), else None."""
     name = config or "paper"
+    seed = None
     if name in SHIPPED:
         ref = resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"
         with resources.as_file(ref) as path:
             base = TrainerConfig.from_yaml(path)
     else:
-        base = TrainerConfig.from_yaml(Path(name))
+        base, seed = load_config_file(Path(name))
     data = base.to_dict()
     data.update(robot=robot, framework=framework)
-    return TrainerConfig.from_dict(data, source=name)
+    return TrainerConfig.from_dict(data, source=name), seed
 
 
 class ProgressPrinter:
@@ -64,7 +82,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--robot", choices=("ugv", "swarm"), required=True)
     p.add_argument("--framework", choices=("single", "dual"), required=True)
     p.add_argument("--config", help="YAML file or shipped name: quick | paper (default paper)")
-    p.add_argument("--seed", type=int, default=0, help="evolution seed (default 0)")
+    p.add_argument("--seed", type=int, default=None,
+                   help="evolution seed (default: the config file's seed, as in a run's "
+                        "config.yaml, else 0)")
     p.add_argument("--out", required=True, type=Path, help="run directory")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--workers", type=int, default=None,
@@ -79,7 +99,9 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status."""
     args = build_parser().parse_args(argv)
     try:
-        config = resolve_config(args.robot, args.framework, args.config)
+        config, saved_seed = resolve_run(args.robot, args.framework, args.config)
+        if args.seed is None:
+            args.seed = 0 if saved_seed is None else saved_seed
         problem = make_problem(config, source=args.config or "paper")
         callbacks = [] if args.quiet else [ProgressPrinter(config.generations)]
         print(
