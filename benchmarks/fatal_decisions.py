@@ -18,11 +18,10 @@ import math
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from mentor_core.genome_io import load_genome_and_metadata
 from mentor_core.robots import get_profile
-from mentor_core.trainer import TrainerConfig, make_problem
+from mentor_core.trainer import load_config_file, make_problem
 
 FRONT = math.radians(30.0)
 TURN = math.radians(20.0)
@@ -35,14 +34,12 @@ def main() -> None:
     p.add_argument("--margin", type=float, default=0.2, help="m (0.2)")
     args = p.parse_args()
 
-    data = yaml.safe_load((args.run / "config.yaml").read_text(encoding="utf-8"))
-    data.pop("seed", None)  # the run's seed, not a config key
-    config = TrainerConfig.from_dict(data, str(args.run / "config.yaml"))
+    config, _ = load_config_file(args.run / "config.yaml")  # the run's seed is not needed
     problem = make_problem(config, get_profile(config.robot, args.robots))
     genome, _ = load_genome_and_metadata(args.run / "best_genome.json")
     batch = problem.simulate([genome])
     k = problem.profile.n_sensors
-    facing = np.array([m.angle for m in problem.profile.sensors])
+    facing = problem.profile.sensor_angles
     front = np.abs(np.remainder(facing + math.pi, 2 * math.pi) - math.pi) <= FRONT
     saw = turned = 0
     steps = []

@@ -5,8 +5,8 @@
 
 The genomes and scenarios of ``throughput_vs_neat.py`` (100 evolved-looking UGV genomes x 80
 training scenarios, the robot's own 2 m steps). Wall-clock timers wrap the stages of an episode
-step (the engine's step and observe, the network's compile and activate, inputs, actions,
-experience points, the ray-cast kernel and the sensor frames inside observe); each stage's
+step (the engine's step and its narrow phase, observe and its compiled readings loop, the
+network's compile and activate, inputs, actions, experience points); each stage's
 share is of the whole ``simulate`` (mean of ``--repeats`` runs after a warm-up). The timers
 add a few microseconds per call. Prints one JSON object.
 """
@@ -29,9 +29,9 @@ from mentor_core.scenarios import training_scenarios
 
 STAGES = (
     (engine.BatchEngine, "step", "engine step (arc, swept collision, goal)"),
+    (engine, "swept_events", "  of which narrow phase (swept_events)"),
     (engine.BatchEngine, "observe", "observe (all sensor work)"),
-    (sensors, "_cast_numba", "  of which ray-cast kernel"),
-    (sensors, "sensor_frames", "  of which sensor frames"),
+    (sensors, "_readings_numba", "  of which readings kernel"),
     (batch_network.BatchNetwork, "activate", "network activate"),
     (batch_network.BatchNetwork, "from_genomes", "network compile"),
     (observation, "network_inputs", "network inputs"),

@@ -104,9 +104,15 @@ class RobotProfile:
     clearance_margin: float | None = None
 
     @property
+    def sensor_mounts(self) -> NDArray[np.float64]:
+        """Mount ``(x, y)`` in the body frame (m) and facing (rad) of the sensors in reading
+        order: ``(n_sensors, 3)``."""
+        return np.array([(m.x, m.y, m.angle) for m in self.sensors], dtype=np.float64)
+
+    @property
     def sensor_angles(self) -> NDArray[np.float64]:
         """Facing angles of the sensors in reading order, rad: ``(n_sensors,)``."""
-        return np.array([m.angle for m in self.sensors], dtype=np.float64)
+        return self.sensor_mounts[:, 2]
 
     @property
     def n_sensors(self) -> int:

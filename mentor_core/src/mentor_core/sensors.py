@@ -281,7 +281,7 @@ def sensor_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
     my cos theta)`` and faces ``theta + ma`` (rad, not wrapped).
     """
     p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    mounts = np.array([(m.x, m.y, m.angle) for m in profile.sensors], dtype=np.float64)
+    mounts = profile.sensor_mounts
     c = np.cos(p[:, 2])[:, None]
     s = np.sin(p[:, 2])[:, None]
     out = np.empty((p.shape[0], mounts.shape[0], 3), dtype=np.float64)
@@ -316,10 +316,10 @@ def sensor_readings(
     without the frames' temporaries; the readings are the numpy backend's, bit for bit.
     """
     p = np.ascontiguousarray(poses, dtype=np.float64).reshape(-1, 3)
+    mounts = profile.sensor_mounts
     # one robot's rays share a box culling: its mounts all lie within `reach` of its centre
-    reach = max(float(np.hypot(m.x, m.y)) for m in profile.sensors)
+    reach = float(np.hypot(mounts[:, 0], mounts[:, 1]).max())
     if _use_numba(backend) and _readings_numba is not None:
-        mounts = np.array([(m.x, m.y, m.angle) for m in profile.sensors], dtype=np.float64)
         facing = p[:, 2, None] + mounts[None, :, 2]  # as sensor_frames, then beam_frames
         rays = facing[:, :, None] if profile.beam_rays == 1 else (
             facing[:, :, None] + profile.beam_offsets
