@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from profiles_support import UGV_STRAIGHT
 
-from mentor_core.robots import get_profile
+from mentor_core.robots import SensorMount, get_profile
 from mentor_core.scenarios import sample_world
 from mentor_core.sensors import (
     HAVE_NUMBA,
@@ -141,10 +141,16 @@ def test_beam_readings_are_the_minimum_of_their_rays_on_both_backends() -> None:
     poses = np.c_[rng.uniform(1.0, 11.0, (50, 2)), rng.uniform(-np.pi, np.pi, 50)]
     got = sensor_readings(poses, ugv, world)
     np.testing.assert_array_equal(got, sensor_readings(poses, ugv, world, backend="numpy"))
-    rays = beam_frames(poses, ugv)
-    each = cast_rays(rays[..., :2].reshape(-1, 2), rays[..., 2].reshape(-1), world.obstacles,
-                     world.size, ugv.sensor_range).reshape(rays.shape[:3])
+    # every ray as a single-ray sensor of its own: the same directions, bit for bit
+    rays = dataclasses.replace(ugv, beam_width=0.0, beam_rays=1, sensors=tuple(
+        SensorMount(m.x, m.y, m.angle + a) for m in ugv.sensors for a in ugv.beam_offsets))
+    each = sensor_readings(poses, rays, world).reshape(50, ugv.n_sensors, ugv.beam_rays)
     np.testing.assert_array_equal(got, each.min(axis=2))
+    # and, to rounding, rays cast along beam_frames' angles
+    frames = beam_frames(poses, ugv)
+    cast = cast_rays(frames[..., :2].reshape(-1, 2), frames[..., 2].reshape(-1),
+                     world.obstacles, world.size, ugv.sensor_range).reshape(frames.shape[:3])
+    np.testing.assert_allclose(got, cast.min(axis=2), rtol=0, atol=1e-12)
 
 
 @pytest.mark.skipif(not HAVE_NUMBA, reason="numba not importable")

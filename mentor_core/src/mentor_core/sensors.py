@@ -12,8 +12,9 @@ alone in its world.
 
 Two backends give bit-identical results: a numba kernel (the trainer's hot loop) and a
 vectorised numpy version (the fallback, and the reference the tests compare against). Both get
-the ray directions from the same numpy ``cos``/``sin`` and then apply the same ``-``, ``*``,
-``/``, ``min`` and ``max`` steps, so no rounding differs.
+the ray directions from the same numpy ``cos``/``sin`` (of the robots' headings and of the
+rays' body-frame angles) and then apply the same ``-``, ``*``, ``/``, ``min`` and ``max``
+steps, so no rounding differs.
 """
 
 from __future__ import annotations
@@ -172,15 +173,15 @@ def _cast_loop(
 
 
 def _readings_loop(
-    poses: FloatArray, c: FloatArray, s: FloatArray, mounts: FloatArray, ux: FloatArray,
-    uy: FloatArray, reach: float, boxes: FloatArray, size: float, max_range: float,
+    poses: FloatArray, c: FloatArray, s: FloatArray, mounts: FloatArray, cr: FloatArray,
+    sr: FloatArray, reach: float, boxes: FloatArray, size: float, max_range: float,
     out: FloatArray,
 ) -> None:
     """:func:`sensor_readings` of every robot in one pass (compiled by numba): robot ``g``'s
     sensor ``i`` sits at its mount (``c``, ``s`` the cos and sin of its heading, the same
-    products as :func:`sensor_frames`) and casts the rays ``ux[g, i, :]``, ``uy[g, i, :]``
-    (numpy's cos and sin of the rays' map-frame angles); its reading is the nearest hit within
-    ``max_range``, else +inf."""
+    products as :func:`sensor_frames`) and casts the rays of body-frame directions
+    ``(cr[i, r], sr[i, r])``, turned by the heading as :func:`_ray_directions` does; its
+    reading is the nearest hit within ``max_range``, else +inf."""
     x0s, y0s, x1s, y1s = _box_scratch(boxes.shape[0])
     cull = max_range + reach + CULL_SLACK
     for g in range(poses.shape[0]):
@@ -193,9 +194,10 @@ def _readings_loop(
             ox = x + (mx * c[g] - my * s[g])
             oy = y + (mx * s[g] + my * c[g])
             nearest = np.inf
-            for r in range(ux.shape[2]):
-                d = _ray_distance(ox, oy, ux[g, i, r], uy[g, i, r], x0s, y0s, x1s, y1s,
-                                  n_cand, size)
+            for r in range(cr.shape[1]):
+                ux = c[g] * cr[i, r] - s[g] * sr[i, r]
+                uy = s[g] * cr[i, r] + c[g] * sr[i, r]
+                d = _ray_distance(ox, oy, ux, uy, x0s, y0s, x1s, y1s, n_cand, size)
                 nearest = min(nearest, np.inf if d > max_range else d)
             out[g, i] = nearest
 
@@ -228,15 +230,14 @@ def _use_numba(backend: Backend) -> bool:
 
 
 def _cast(
-    origins: FloatArray, angles: FloatArray, boxes: ArrayLike, arena_size: float,
+    origins: FloatArray, ux: FloatArray, uy: FloatArray, boxes: ArrayLike, arena_size: float,
     max_range: float, backend: Backend, group: int, centres: FloatArray, reach: float,
 ) -> FloatArray:
-    """:func:`cast_rays` with rays grouped ``group`` at a time around ``centres`` (m)."""
+    """Rays from ``origins`` ``(n, 2)`` along unit directions ``(ux, uy)`` ``(n,)``, grouped
+    ``group`` at a time around ``centres`` (m): :func:`cast_rays`'s readings."""
     b = np.ascontiguousarray(boxes, dtype=np.float64).reshape(-1, 4)
     ox = np.ascontiguousarray(origins[:, 0])
     oy = np.ascontiguousarray(origins[:, 1])
-    ux = np.cos(angles)
-    uy = np.sin(angles)
     size = float(arena_size)
     if _use_numba(backend) and _cast_numba is not None:
         dist = np.empty(ox.shape[0], dtype=np.float64)
@@ -270,7 +271,7 @@ def cast_rays(
     a = np.asarray(angles, dtype=np.float64).reshape(-1)
     if a.shape[0] != o.shape[0]:
         raise ValueError(f"{o.shape[0]} origins but {a.shape[0]} angles")
-    return _cast(o, a, boxes, arena_size, max_range, backend, 1, o, 0.0)
+    return _cast(o, np.cos(a), np.sin(a), boxes, arena_size, max_range, backend, 1, o, 0.0)
 
 
 def sensor_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
@@ -305,37 +306,60 @@ def beam_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
     return out
 
 
+def _body_ray_directions(profile: RobotProfile) -> tuple[FloatArray, FloatArray]:
+    """Cos and sin of every ray's angle from the body's x axis (its sensor's facing plus
+    its beam offset): ``(n_sensors, beam_rays)`` each."""
+    angles = profile.sensor_mounts[:, 2, None] + profile.beam_offsets[None, :]
+    return np.cos(angles), np.sin(angles)
+
+
+def _ray_directions(
+    c: FloatArray, s: FloatArray, profile: RobotProfile
+) -> tuple[FloatArray, FloatArray]:
+    """Map-frame unit directions ``(ux, uy)`` of every ray, ``(n, n_sensors, beam_rays)``
+    each, of robots whose headings have cos ``c`` and sin ``s`` ``(n,)``.
+
+    A ray at angle ``a`` from the body's x axis of a robot heading ``theta`` faces
+    ``theta + a``: ``u = R(theta) (cos a, sin a) = (c cos a - s sin a, s cos a + c sin a)``,
+    four products per ray instead of a cos and a sin (those of ``a`` are the profile's).
+    """
+    cr, sr = _body_ray_directions(profile)
+    c3 = c[:, None, None]
+    s3 = s[:, None, None]
+    return c3 * cr - s3 * sr, s3 * cr + c3 * sr
+
+
 def sensor_readings(
     poses: ArrayLike, profile: RobotProfile, world: World, *, backend: Backend = "auto"
 ) -> FloatArray:
     """Range readings ``(n, n_sensors)`` (m, ``+inf`` beyond ``profile.sensor_range``).
 
     Reading ``i`` comes from ``profile.sensors[i]``: the nearest hit of its beam's rays
-    (:func:`beam_frames`; one ray for a zero-width beam). The numba backend does each robot's
-    mounts, box culling, rays and range cut in one compiled loop (:func:`_readings_loop`),
-    without the frames' temporaries; the readings are the numpy backend's, bit for bit.
+    (:func:`beam_frames`; one ray for a zero-width beam), cast from the sensor's origin along
+    :func:`_ray_directions`. The numba backend does each robot's mounts, ray directions, box
+    culling, rays and range cut in one compiled loop (:func:`_readings_loop`), without
+    temporaries; the readings are the numpy backend's, bit for bit.
     """
     p = np.ascontiguousarray(poses, dtype=np.float64).reshape(-1, 3)
     mounts = profile.sensor_mounts
     # one robot's rays share a box culling: its mounts all lie within `reach` of its centre
     reach = float(np.hypot(mounts[:, 0], mounts[:, 1]).max())
+    c = np.cos(p[:, 2])
+    s = np.sin(p[:, 2])
     if _use_numba(backend) and _readings_numba is not None:
-        facing = p[:, 2, None] + mounts[None, :, 2]  # as sensor_frames, then beam_frames
-        rays = facing[:, :, None] if profile.beam_rays == 1 else (
-            facing[:, :, None] + profile.beam_offsets
-        )
+        cr, sr = _body_ray_directions(profile)
         readings = np.empty((p.shape[0], mounts.shape[0]), dtype=np.float64)
         _readings_numba(
-            p, np.cos(p[:, 2]), np.sin(p[:, 2]), mounts, np.cos(rays), np.sin(rays), reach,
+            p, c, s, mounts, cr, sr, reach,
             np.ascontiguousarray(world.obstacles, dtype=np.float64).reshape(-1, 4),
             float(world.size), float(profile.sensor_range), readings,
         )
         return readings
-    frames = beam_frames(p, profile)
+    origins = np.repeat(sensor_frames(p, profile)[:, :, None, :2], profile.beam_rays, axis=2)
+    ux, uy = _ray_directions(c, s, profile)
     dist = _cast(
-        frames[..., :2].reshape(-1, 2), frames[..., 2].reshape(-1), world.obstacles,
-        world.size, profile.sensor_range, backend, profile.n_sensors * profile.beam_rays,
-        p[:, :2], reach,
+        origins.reshape(-1, 2), ux.reshape(-1), uy.reshape(-1), world.obstacles, world.size,
+        profile.sensor_range, backend, profile.n_sensors * profile.beam_rays, p[:, :2], reach,
     )
-    found: FloatArray = dist.reshape(frames.shape[:3]).min(axis=2)
+    found: FloatArray = dist.reshape(ux.shape).min(axis=2)
     return found
