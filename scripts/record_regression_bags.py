@@ -48,21 +48,34 @@ from mentor_sim_node.demo import run_graph  # noqa: E402
 
 SCENARIO_SEED = 0
 CANDIDATES = 20
+MAX_CANDIDATES = 160
 NAMESPACE = "robot_0"
 
 
 def choose(
     robot: str, planner: GenomePlanner, n: int
 ) -> tuple[list[Scenario], list[str]]:
-    """Up to ``n`` scenarios of the regression world: distinct outcomes first, then short."""
-    profile = planner.profile
-    candidates = training_scenarios(profile, SCENARIO_SEED, n=CANDIDATES)
-    world = candidates[0].world
-    runs = []
-    for i, sc in enumerate(candidates):
-        setup = RobotSetup(NAMESPACE, profile, sc.start, sc.goal, i)
-        trace = run_reference_episode(world, [setup], {NAMESPACE: planner.decide})[NAMESPACE]
-        runs.append((trace.steps, i, trace.outcome))
+    """Up to ``n`` scenarios of the regression world: distinct outcomes first, then short.
+
+    The first ``CANDIDATES`` start/goal pairs, and more (up to ``MAX_CANDIDATES``) only while
+    some ending is still missing.
+    """
+    # the simulator node's robot (its time budgets), not the planner's view of it (a planner
+    # with shorter steps has a lower rated speed, hence longer budgets)
+    profile = get_profile(robot)
+    runs: list[tuple[int, int, str]] = []
+    count = CANDIDATES
+    while True:
+        candidates = training_scenarios(profile, SCENARIO_SEED, n=count)
+        world = candidates[0].world
+        for i in range(len(runs), count):
+            sc = candidates[i]
+            setup = RobotSetup(NAMESPACE, profile, sc.start, sc.goal, i)
+            trace = run_reference_episode(world, [setup], {NAMESPACE: planner.decide})
+            runs.append((trace[NAMESPACE].steps, i, trace[NAMESPACE].outcome))
+        if len({kind for _, _, kind in runs}) == 3 or count >= MAX_CANDIDATES:
+            break
+        count = min(2 * count, MAX_CANDIDATES)
     runs.sort()
     picked: list[tuple[int, int, str]] = []
     for kind in ("reached", "collided", "timed_out"):

@@ -22,6 +22,11 @@ def facing_straight_out(profile: RobotProfile) -> RobotProfile:
     return dataclasses.replace(profile, sensors=mounts)
 
 
-#: the UGV with each pair facing straight out of its edge: front pair 0 rad, left pair pi/2,
-#: rear pair pi, right pair -pi/2
-UGV_STRAIGHT = facing_straight_out(get_profile("ugv"))
+def single_rays(profile: RobotProfile) -> RobotProfile:
+    """``profile`` with every sensor reading one ray straight out (no beams)."""
+    return dataclasses.replace(profile, beam_width=0.0, beam_rays=1, beam_sensors=None)
+
+
+#: the UGV with each pair facing straight out of its edge, one ray each: front pair 0 rad,
+#: left pair pi/2, rear pair pi, right pair -pi/2
+UGV_STRAIGHT = facing_straight_out(single_rays(get_profile("ugv")))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from profiles_support import single_rays
 
 from mentor_core.episode import run_episodes
 from mentor_core.robots import get_profile, with_planner
@@ -121,8 +122,9 @@ def test_a_clearance_margin_stops_a_robot_a_margin_short_of_the_wall_it_sees() -
     # full 2 m steps straight at the box face x = 6 from x = 4 (scenario 1, front edge at
     # 4.15): without a margin the robot hits the face (test above); with a 0.1 m margin its
     # first step is the 1.85 m its front pair sees along its heading less the margin, and then
-    # it stands (step_min 0) a margin short of the face until its decisions run out
-    guarded = with_planner(UGV, step_min=0.0, clearance_margin=0.1)
+    # it stands (step_min 0) a margin short of the face until its decisions run out (single
+    # rays: the shipped front beams also see the face straight ahead, at 1.85 m)
+    guarded = with_planner(single_rays(UGV), step_min=0.0, clearance_margin=0.1)
     batch = run_episodes([SCENARIOS[1]], guarded, straight, max_steps=6)
     assert not batch.collided[0] and batch.timed_out[0]
     np.testing.assert_allclose(batch.trajectories[0, 1:, 0] + UGV.length / 2, 5.9)

@@ -86,9 +86,10 @@ def test_ranges_agree(robot: str, seed: int) -> None:
     ours = sensor_readings(poses, profile, world)
     rays = beam_frames(poses, profile)  # (n, sensors, rays, 3)
     hits = sensor_readings(poses, dataclasses.replace(  # every ray as a sensor of its own
-        profile, beam_width=0.0, beam_rays=1, sensors=tuple(
-            SensorMount(m.x, m.y, m.angle + a) for m in profile.sensors
-            for a in profile.beam_offsets)), world).reshape(rays.shape[:3])
+        profile, beam_width=0.0, beam_rays=1, beam_sensors=None, sensors=tuple(
+            SensorMount(m.x, m.y, m.angle + a) for m, offsets in zip(
+                profile.sensors, profile.ray_offsets, strict=True) for a in offsets)),
+        world).reshape(rays.shape[:3])
     for i, pose in enumerate(poses):
         theirs = reference.ranges(pose)
         # a sensor is skipped when any of its rays is degenerate

@@ -53,7 +53,13 @@ def test_ugv_sensors_are_pairs_on_each_edge_facing_out_every_45_degrees() -> Non
     assert np.all(np.diff(bearings) > 0)  # counter-clockwise order, one full turn
     assert bearings[-1] - bearings[0] < 2 * math.pi
     np.testing.assert_allclose(np.diff([s.angle for s in ugv.sensors]), math.pi / 4)
-    assert ugv.beam_width == 0.0 and ugv.beam_rays == 1  # single rays unless a file says
+    # the front pair reads 45 deg beams of 5 rays, the other six single rays
+    assert ugv.beam_width == pytest.approx(math.radians(45.0)) and ugv.beam_rays == 5
+    assert ugv.beam_sensors == (0, 1)
+    np.testing.assert_array_equal(ugv.ray_counts, [5, 5, 1, 1, 1, 1, 1, 1])
+    beam = np.radians([-22.5, -11.25, 0.0, 11.25, 22.5])
+    np.testing.assert_allclose(ugv.ray_offsets[:2], [beam, beam])
+    assert not ugv.ray_offsets[2:].any()
 
 
 def test_swarm_sensors_on_the_front_edge() -> None:
@@ -113,9 +119,17 @@ def _mutate(doc: dict[str, Any], change: str) -> None:
     elif change == "mount_key":
         ugv["sensors"][1]["angle"] = 0.0
     elif change == "beam_without_rays":
-        ugv["beam_width_deg"] = 30.0
+        ugv.update(beam_width_deg=30.0, beam_rays=1)
     elif change == "rays_without_beam":
-        ugv["beam_rays"] = 3
+        ugv.update(beam_width_deg=0.0, beam_rays=3)
+    elif change == "beam_sensors_without_beam":
+        ugv.update(beam_width_deg=0.0, beam_rays=1)
+    elif change == "beam_sensors_out_of_range":
+        ugv["beam_sensors"] = [0, 8]
+    elif change == "beam_sensors_repeated":
+        ugv["beam_sensors"] = [1, 1]
+    elif change == "beam_sensors_empty":
+        ugv["beam_sensors"] = []
     elif change == "beam_too_wide":
         ugv.update(beam_width_deg=180.0, beam_rays=5)
     elif change == "beam_rays_float":
@@ -137,6 +151,10 @@ def _mutate(doc: dict[str, Any], change: str) -> None:
         ("rays_without_beam", "robots.ugv.beam_rays"),
         ("beam_too_wide", "robots.ugv.beam_width_deg"),
         ("beam_rays_float", "robots.ugv.beam_rays"),
+        ("beam_sensors_without_beam", "robots.ugv.beam_sensors"),
+        ("beam_sensors_out_of_range", "robots.ugv.beam_sensors"),
+        ("beam_sensors_repeated", "robots.ugv.beam_sensors"),
+        ("beam_sensors_empty", "robots.ugv.beam_sensors"),
     ],
 )
 def test_bad_values_name_key_and_file(tmp_path: Path, change: str, key: str) -> None:
@@ -184,7 +202,7 @@ def test_a_beam_is_read_from_the_file_and_sampled_evenly(tmp_path: Path) -> None
     ugv = load_profiles(path)["ugv"]
     assert ugv.beam_width == pytest.approx(math.radians(30.0)) and ugv.beam_rays == 3
     np.testing.assert_allclose(ugv.beam_offsets, np.radians([-15.0, 0.0, 15.0]))
-    np.testing.assert_array_equal(get_profile("ugv").beam_offsets, [0.0])
+    np.testing.assert_array_equal(get_profile("swarm").beam_offsets, [0.0])
 
 
 def test_mentor_robots_names_the_robot_file_in_use(

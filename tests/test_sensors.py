@@ -6,7 +6,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from profiles_support import UGV_STRAIGHT
+from profiles_support import UGV_STRAIGHT, single_rays
 
 from mentor_core.robots import SensorMount, get_profile
 from mentor_core.scenarios import sample_world
@@ -142,8 +142,9 @@ def test_beam_readings_are_the_minimum_of_their_rays_on_both_backends() -> None:
     got = sensor_readings(poses, ugv, world)
     np.testing.assert_array_equal(got, sensor_readings(poses, ugv, world, backend="numpy"))
     # every ray as a single-ray sensor of its own: the same directions, bit for bit
-    rays = dataclasses.replace(ugv, beam_width=0.0, beam_rays=1, sensors=tuple(
-        SensorMount(m.x, m.y, m.angle + a) for m in ugv.sensors for a in ugv.beam_offsets))
+    rays = dataclasses.replace(ugv, beam_width=0.0, beam_rays=1, beam_sensors=None, sensors=tuple(
+        SensorMount(m.x, m.y, m.angle + a) for m, offsets in zip(
+            ugv.sensors, ugv.ray_offsets, strict=True) for a in offsets))
     each = sensor_readings(poses, rays, world).reshape(50, ugv.n_sensors, ugv.beam_rays)
     np.testing.assert_array_equal(got, each.min(axis=2))
     # and, to rounding, rays cast along beam_frames' angles
@@ -172,3 +173,17 @@ def test_fused_readings_kernel_equals_the_numpy_backend(robot: str) -> None:
         np.testing.assert_array_equal(got, sensor_readings(poses, variant, world,
                                                            backend="numpy"))
         assert np.isinf(got).any() and (got == 0.0).any() and np.isfinite(got).any()
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_only_the_beam_sensors_read_beams(backend: Backend) -> None:
+    """The shipped UGV: the front pair reads 45 deg beams, the other six read single rays,
+    exactly as a profile of single rays does; a beam reads no farther than its middle ray."""
+    rng = np.random.default_rng(8)
+    ugv = get_profile("ugv")
+    world = sample_world(12.0, rng)
+    poses = np.c_[rng.uniform(1.0, 11.0, (400, 2)), rng.uniform(-np.pi, np.pi, 400)]
+    got = sensor_readings(poses, ugv, world, backend=backend)
+    rays = sensor_readings(poses, single_rays(ugv), world, backend=backend)
+    np.testing.assert_array_equal(got[:, 2:], rays[:, 2:])
+    assert (got[:, :2] <= rays[:, :2]).all() and (got[:, :2] < rays[:, :2]).any()

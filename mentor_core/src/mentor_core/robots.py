@@ -61,9 +61,11 @@ class RobotProfile:
         length, width: body rectangle along x and y of the body frame, m.
         sensors: range sensors in reading order (see the module docstring).
         sensor_range: maximum range of every sensor, m.
-        beam_width: full opening angle of every sensor's beam, rad (0: a single ray).
+        beam_width: full opening angle of a sensor's beam, rad (0: a single ray).
         beam_rays: rays that sample a beam, evenly spread over ``beam_width`` (1 for a ray);
             a reading is the nearest of its rays (see :meth:`beam_offsets`).
+        beam_sensors: reading indices of the sensors that have the beam, ascending; the
+            others read a single ray straight out. None: every sensor.
         heading_change_max: the heading change action lies in [-max, max], rad.
         step_min, step_max: the translation action lies in [step_min, step_max], m.
         control_period: time of one decision, s.
@@ -100,6 +102,7 @@ class RobotProfile:
     test_arena: float
     beam_width: float = 0.0
     beam_rays: int = 1
+    beam_sensors: tuple[int, ...] | None = None
     input_encoding: str = "paper"
     clearance_margin: float | None = None
 
@@ -131,6 +134,27 @@ class RobotProfile:
             return np.zeros(1, dtype=np.float64)
         half = 0.5 * self.beam_width
         return np.linspace(-half, half, self.beam_rays, dtype=np.float64)
+
+    @property
+    def ray_counts(self) -> NDArray[np.int64]:
+        """Rays of each sensor in reading order: ``beam_rays`` for a sensor with the beam,
+        else 1: ``(n_sensors,)``."""
+        counts = np.ones(self.n_sensors, dtype=np.int64)
+        counts[self._beam_rows()] = self.beam_rays
+        return counts
+
+    @property
+    def ray_offsets(self) -> NDArray[np.float64]:
+        """Directions of each sensor's rays relative to its facing, rad:
+        ``(n_sensors, beam_rays)``. Row ``i`` is :meth:`beam_offsets` for a sensor with the
+        beam; a sensor without it has all zeros (its one ray, repeated: the nearest of equal
+        rays is that ray's reading, so only its first ray needs casting)."""
+        offsets = np.zeros((self.n_sensors, self.beam_rays), dtype=np.float64)
+        offsets[self._beam_rows()] = self.beam_offsets
+        return offsets
+
+    def _beam_rows(self) -> list[int] | slice:
+        return slice(None) if self.beam_sensors is None else list(self.beam_sensors)
 
     @property
     def n_inputs(self) -> int:
@@ -247,7 +271,8 @@ def _planner_number(
 
 def sensor_record(profile: RobotProfile) -> dict[str, Any]:
     """What a planner's readings depend on, as plain JSON values: the mounts ``[x, y, angle]``
-    (m, m, rad) in reading order, the range (m) and the beam (rad, rays).
+    (m, m, rad) in reading order, the range (m) and the beam (rad, rays, and the sensors that
+    have it unless all do).
 
     Written with a trained genome and a checkpoint, so that a planner is never run, nor a run
     resumed, with sensors other than those it was trained with.
@@ -257,6 +282,9 @@ def sensor_record(profile: RobotProfile) -> dict[str, Any]:
         "sensor_range": profile.sensor_range,
         "beam_width": profile.beam_width,
         "beam_rays": profile.beam_rays,
+        # only when some sensors lack the beam, so that older records of every other
+        # profile stay equal
+        **({} if profile.beam_sensors is None else {"beam_sensors": list(profile.beam_sensors)}),
     }
 
 
@@ -348,7 +376,7 @@ _SCALARS = (
 )
 _REQUIRED_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
 # optional: a ray sensor (width 0, one ray) unless given
-_BEAM_KEYS = {"beam_width_deg", "beam_rays"}
+_BEAM_KEYS = {"beam_width_deg", "beam_rays", "beam_sensors"}
 _MOUNT_KEYS = {"x", "y", "angle_deg"}
 
 
@@ -374,6 +402,8 @@ def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
         _parse_mount(m, f"{prefix}.sensors[{i}]", v["length"], v["width"], source)
         for i, m in enumerate(mounts)
     )
+    beam_sensors = _beam_sensors(spec.get("beam_sensors"), beam_rays, len(sensors), prefix,
+                                 source)
     return RobotProfile(
         name=name,
         length=v["length"],
@@ -393,6 +423,7 @@ def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
         test_arena=v["test_arena"],
         beam_width=beam_width,
         beam_rays=beam_rays,
+        beam_sensors=beam_sensors,
     )
 
 
@@ -418,6 +449,27 @@ def _beam(spec: Mapping[str, Any], prefix: str, source: Path) -> tuple[float, in
             path=source,
         )
     return math.radians(width), rays
+
+
+def _beam_sensors(
+    spec: Any, beam_rays: int, n_sensors: int, prefix: str, source: Path
+) -> tuple[int, ...] | None:
+    """The ``beam_sensors`` list of a profile: distinct reading indices, given only with a
+    beam; None when absent (every sensor has the beam)."""
+    if spec is None:
+        return None
+    key = f"{prefix}.beam_sensors"
+    if beam_rays == 1:
+        raise ConfigError("needs a beam (beam_width_deg and beam_rays)", key=key, path=source)
+    ok = isinstance(spec, list) and spec and all(
+        isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n_sensors for i in spec
+    )
+    if not ok or len(set(spec)) != len(spec):
+        raise ConfigError(
+            f"expected a non-empty list of distinct sensor indices in [0, {n_sensors}), "
+            f"got {spec!r}", key=key, path=source,
+        )
+    return tuple(sorted(spec))
 
 
 def _parse_mount(spec: Any, key: str, length: float, width: float, source: Path) -> SensorMount:

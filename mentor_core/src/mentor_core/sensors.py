@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     from mentor_core.world import World
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 Backend = Literal["auto", "numba", "numpy"]
 
 # Rays x boxes handled at once by the numpy backend: bounds its temporaries to ~10 MB each.
@@ -174,14 +175,15 @@ def _cast_loop(
 
 def _readings_loop(
     poses: FloatArray, c: FloatArray, s: FloatArray, mounts: FloatArray, cr: FloatArray,
-    sr: FloatArray, reach: float, boxes: FloatArray, size: float, max_range: float,
-    out: FloatArray,
+    sr: FloatArray, counts: IntArray, reach: float, boxes: FloatArray, size: float,
+    max_range: float, out: FloatArray,
 ) -> None:
     """:func:`sensor_readings` of every robot in one pass (compiled by numba): robot ``g``'s
     sensor ``i`` sits at its mount (``c``, ``s`` the cos and sin of its heading, the same
-    products as :func:`sensor_frames`) and casts the rays of body-frame directions
-    ``(cr[i, r], sr[i, r])``, turned by the heading as :func:`_ray_directions` does; its
-    reading is the nearest hit within ``max_range``, else +inf."""
+    products as :func:`sensor_frames`) and casts its first ``counts[i]`` rays, of body-frame
+    directions ``(cr[i, r], sr[i, r])``, turned by the heading as :func:`_ray_directions`
+    does (the rest of a row repeats its first ray); its reading is the nearest hit within
+    ``max_range``, else +inf."""
     x0s, y0s, x1s, y1s = _box_scratch(boxes.shape[0])
     cull = max_range + reach + CULL_SLACK
     for g in range(poses.shape[0]):
@@ -194,7 +196,7 @@ def _readings_loop(
             ox = x + (mx * c[g] - my * s[g])
             oy = y + (mx * s[g] + my * c[g])
             nearest = np.inf
-            for r in range(cr.shape[1]):
+            for r in range(counts[i]):
                 ux = c[g] * cr[i, r] - s[g] * sr[i, r]
                 uy = s[g] * cr[i, r] + c[g] * sr[i, r]
                 d = _ray_distance(ox, oy, ux, uy, x0s, y0s, x1s, y1s, n_cand, size)
@@ -296,20 +298,21 @@ def beam_frames(poses: ArrayLike, profile: RobotProfile) -> FloatArray:
     """Map-frame origin and direction of every ray of every beam: ``(n, s, beam_rays, 3)``.
 
     Ray ``j`` of sensor ``i`` starts at the sensor's origin (:func:`sensor_frames`) and faces
-    its direction plus ``profile.beam_offsets[j]``; a single-ray sensor's one ray is its frame.
+    its direction plus ``profile.ray_offsets[i, j]``; a single-ray sensor's one ray is its
+    frame (repeated ``beam_rays`` times when other sensors have the beam).
     """
     frames = sensor_frames(poses, profile)[:, :, None, :]
     if profile.beam_rays == 1:
         return frames
     out = np.repeat(frames, profile.beam_rays, axis=2)
-    out[..., 2] += profile.beam_offsets
+    out[..., 2] += profile.ray_offsets
     return out
 
 
 def _body_ray_directions(profile: RobotProfile) -> tuple[FloatArray, FloatArray]:
     """Cos and sin of every ray's angle from the body's x axis (its sensor's facing plus
-    its beam offset): ``(n_sensors, beam_rays)`` each."""
-    angles = profile.sensor_mounts[:, 2, None] + profile.beam_offsets[None, :]
+    its offset, ``profile.ray_offsets``): ``(n_sensors, beam_rays)`` each."""
+    angles = profile.sensor_mounts[:, 2, None] + profile.ray_offsets
     return np.cos(angles), np.sin(angles)
 
 
@@ -335,7 +338,7 @@ def sensor_readings(
     """Range readings ``(n, n_sensors)`` (m, ``+inf`` beyond ``profile.sensor_range``).
 
     Reading ``i`` comes from ``profile.sensors[i]``: the nearest hit of its beam's rays
-    (:func:`beam_frames`; one ray for a zero-width beam), cast from the sensor's origin along
+    (:func:`beam_frames`; one ray for a sensor without a beam), cast from its origin along
     :func:`_ray_directions`. The numba backend does each robot's mounts, ray directions, box
     culling, rays and range cut in one compiled loop (:func:`_readings_loop`), without
     temporaries; the readings are the numpy backend's, bit for bit.
@@ -350,7 +353,7 @@ def sensor_readings(
         cr, sr = _body_ray_directions(profile)
         readings = np.empty((p.shape[0], mounts.shape[0]), dtype=np.float64)
         _readings_numba(
-            p, c, s, mounts, cr, sr, reach,
+            p, c, s, mounts, cr, sr, profile.ray_counts, reach,
             np.ascontiguousarray(world.obstacles, dtype=np.float64).reshape(-1, 4),
             float(world.size), float(profile.sensor_range), readings,
         )
