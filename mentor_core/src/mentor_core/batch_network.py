@@ -209,15 +209,19 @@ class BatchNetwork:
         n_levels = max(len(p.level_sizes) for p in per_genome)
         n_gen = len(genomes)
         level_ptr = np.zeros((n_gen, n_levels + 1), dtype=np.int64)
-        code_counts = np.zeros((n_gen, n_levels, N_CODES), dtype=np.int64)
         first = 0
         for g, p in enumerate(per_genome):
             sizes = np.zeros(n_levels, dtype=np.int64)
             sizes[: len(p.level_sizes)] = p.level_sizes
             level_ptr[g] = first + np.concatenate([[0], np.cumsum(sizes)])
-            levels = np.array(p.levels, dtype=np.intp) - 1
-            np.add.at(code_counts[g], (levels, np.array(p.codes, dtype=np.intp)), 1)
             first += len(p.codes)
+        # nodes per (genome, level, code): one bincount over every node's flat cell
+        cell = [(g * n_levels + level - 1) * N_CODES + code
+                for g, p in enumerate(per_genome)
+                for level, code in zip(p.levels, p.codes, strict=True)]
+        code_counts = np.bincount(
+            np.array(cell, dtype=np.intp), minlength=n_gen * n_levels * N_CODES
+        ).astype(np.int64).reshape(n_gen, n_levels, N_CODES)
         degrees = [d for p in per_genome for d in p.degrees]
         return cls(
             n_inputs=n_in,
