@@ -179,7 +179,9 @@ def clearance_limit(ranges: ArrayLike, dtheta: ArrayLike, profile: RobotProfile)
     Not in the paper. A decision moves the robot along an arc whose chord points at
     ``phi = dtheta / 2`` in the body frame. Each sensor facing within 45 deg of the chord
     (inclusive) saw something ``U_i cos(a_i - phi)`` along it (``U_i`` the clipped reading,
-    ``a_i`` the facing): for a flat wall across the path, exactly the wall's distance. The step
+    ``a_i`` the facing; a sensor with a beam counts as facing its beam's axis, though its
+    nearest hit may lie anywhere in the beam): for a flat wall across the path, exactly the
+    wall's distance (for a single ray; at most that for a beam). The step
     keeps the margin ``m`` (``profile.clearance_margin``) to the nearest, but may always take
     ``step_min``:
 

@@ -12,7 +12,8 @@ above, as a LaserScan's angles increase:
 * ``ugv``: 0 front-right, 1 front-left (front edge), 2 left-front, 3 left-rear (left edge),
   4 rear-left, 5 rear-right (rear edge), 6 right-rear, 7 right-front (right edge); the two
   sensors of an edge are 0.075 m apart and splayed +-22.5 deg about its normal, so sensor
-  ``i`` faces ``-22.5 + 45 i`` deg.
+  ``i`` faces ``-22.5 + 45 i`` deg; the front pair (0, 1) reads 45 deg beams of 5 rays, the
+  others single rays.
 * ``swarm``: 0 front-right (-45 deg), 1 front-centre (0 deg), 2 front-left (+45 deg).
 """
 
