@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from mentor_core.robots import RobotProfile, get_profile
+from mentor_core.robots import RobotProfile, SensorMount, get_profile
 
 
 def facing_straight_out(profile: RobotProfile) -> RobotProfile:
@@ -25,6 +25,15 @@ def facing_straight_out(profile: RobotProfile) -> RobotProfile:
 def single_rays(profile: RobotProfile) -> RobotProfile:
     """``profile`` with every sensor reading one ray straight out (no beams)."""
     return dataclasses.replace(profile, beam_width=0.0, beam_rays=1, beam_sensors=None)
+
+
+def rays_as_sensors(profile: RobotProfile) -> RobotProfile:
+    """``profile`` with every ray of every sensor as a single-ray sensor of its own, in
+    ``beam_frames`` order (sensor, then ray): the same mounts and directions, bit for bit."""
+    return dataclasses.replace(single_rays(profile), sensors=tuple(
+        SensorMount(m.x, m.y, m.angle + a)
+        for m, offsets in zip(profile.sensors, profile.ray_offsets, strict=True)
+        for a in offsets))
 
 
 #: the UGV with each pair facing straight out of its edge, one ray each: front pair 0 rad,

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from profiles_support import rays_as_sensors
 
 from mentor_core.collision import (
     robot_collides,
@@ -23,7 +24,7 @@ from mentor_core.collision import (
     swept_collision,
     swept_samples,
 )
-from mentor_core.robots import RobotProfile, SensorMount, get_profile
+from mentor_core.robots import RobotProfile, get_profile
 from mentor_core.scenarios import sample_world
 from mentor_core.sensors import beam_frames, sensor_readings
 from mentor_core.world import World
@@ -73,7 +74,9 @@ def _profile(robot: str) -> RobotProfile:
     """A shipped profile, or ``<name>-beam``: its sensors as 45 deg beams of 5 rays."""
     name, _, beam = robot.partition("-")
     profile = get_profile(name)
-    return dataclasses.replace(profile, beam_width=np.pi / 4, beam_rays=5) if beam else profile
+    # beams on every sensor (the shipped UGV has them on its front pair only)
+    everywhere = dataclasses.replace(profile, beam_width=np.pi / 4, beam_rays=5, beam_sensors=None)
+    return everywhere if beam else profile
 
 
 @pytest.mark.parametrize("robot", ["ugv", "swarm", "ugv-beam"])
@@ -85,11 +88,7 @@ def test_ranges_agree(robot: str, seed: int) -> None:
     reference = pymunk_world.PymunkWorld(world, profile)
     ours = sensor_readings(poses, profile, world)
     rays = beam_frames(poses, profile)  # (n, sensors, rays, 3)
-    hits = sensor_readings(poses, dataclasses.replace(  # every ray as a sensor of its own
-        profile, beam_width=0.0, beam_rays=1, beam_sensors=None, sensors=tuple(
-            SensorMount(m.x, m.y, m.angle + a) for m, offsets in zip(
-                profile.sensors, profile.ray_offsets, strict=True) for a in offsets)),
-        world).reshape(rays.shape[:3])
+    hits = sensor_readings(poses, rays_as_sensors(profile), world).reshape(rays.shape[:3])
     for i, pose in enumerate(poses):
         theirs = reference.ranges(pose)
         # a sensor is skipped when any of its rays is degenerate

@@ -6,9 +6,9 @@ import dataclasses
 
 import numpy as np
 import pytest
-from profiles_support import UGV_STRAIGHT, single_rays
+from profiles_support import UGV_STRAIGHT, rays_as_sensors, single_rays
 
-from mentor_core.robots import SensorMount, get_profile
+from mentor_core.robots import get_profile
 from mentor_core.scenarios import sample_world
 from mentor_core.sensors import (
     HAVE_NUMBA,
@@ -142,10 +142,8 @@ def test_beam_readings_are_the_minimum_of_their_rays_on_both_backends() -> None:
     got = sensor_readings(poses, ugv, world)
     np.testing.assert_array_equal(got, sensor_readings(poses, ugv, world, backend="numpy"))
     # every ray as a single-ray sensor of its own: the same directions, bit for bit
-    rays = dataclasses.replace(ugv, beam_width=0.0, beam_rays=1, beam_sensors=None, sensors=tuple(
-        SensorMount(m.x, m.y, m.angle + a) for m, offsets in zip(
-            ugv.sensors, ugv.ray_offsets, strict=True) for a in offsets))
-    each = sensor_readings(poses, rays, world).reshape(50, ugv.n_sensors, ugv.beam_rays)
+    each = sensor_readings(poses, rays_as_sensors(ugv), world)
+    each = each.reshape(50, ugv.n_sensors, ugv.beam_rays)
     np.testing.assert_array_equal(got, each.min(axis=2))
     # and, to rounding, rays cast along beam_frames' angles
     frames = beam_frames(poses, ugv)
@@ -167,8 +165,9 @@ def test_fused_readings_kernel_equals_the_numpy_backend(robot: str) -> None:
     n = 3000
     poses = np.c_[rng.uniform(0.0, size, (n, 2)), rng.uniform(-np.pi, np.pi, n)]
     poses[: n // 4, 2] = rng.choice([0.0, np.pi / 2, np.pi, -np.pi / 2], n // 4)
+    # as shipped (the UGV: beams on its front pair), and beams on every sensor
     for variant in (profile, dataclasses.replace(profile, beam_width=np.radians(45.0),
-                                                 beam_rays=5)):
+                                                 beam_rays=5, beam_sensors=None)):
         got = sensor_readings(poses, variant, world, backend="numba")
         np.testing.assert_array_equal(got, sensor_readings(poses, variant, world,
                                                            backend="numpy"))
