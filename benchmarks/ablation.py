@@ -31,14 +31,15 @@ from typing import Any
 import numpy as np
 import yaml
 
-from mentor_core.assessment import assess
-from mentor_core.bagio import read_scenario_bag
 from mentor_core.cli.train import resolve_config
-from mentor_core.evaluators import InProcessEvaluator
-from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.scenarios import sample_scenarios, training_scenarios
-from mentor_core.trainer import TrainerConfig, make_problem, train
-from mentor_core.world import Scenario, World
+from mentor_core.files.bags import read_scenario_bag
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.scenarios import sample_scenarios, training_scenarios
+from mentor_core.sim.world import Scenario, World
+from mentor_core.training.assessment import assess
+from mentor_core.training.config import TrainerConfig
+from mentor_core.training.evaluators import InProcessEvaluator
+from mentor_core.training.trainer import make_problem, train
 
 ROOT = Path(__file__).resolve().parents[1]
 HELDOUT_SEED = 999  # training DoEs use the config's scenario seed (0); this one no run sees

@@ -11,7 +11,7 @@ ask/tell (milliseconds) is not included. The population: ``--genomes`` minimal U
 put through ``--rounds`` of the paper's mutation (:func:`generation_bench.evolved_looking`,
 so they carry hidden nodes like a population some generations in).
 
-Backends (:mod:`mentor_core.evaluators`): ``inprocess``; ``pool``, a spawn process pool of
+Backends (:mod:`mentor_core.training.evaluators`): ``inprocess``; ``pool``, a spawn process pool of
 ``--workers`` processes; ``ray``, a local Ray started with ``--workers`` CPUs (no dashboard).
 Each is started (``startup_s``), runs one warm-up generation (numba kernels loaded in every
 worker, problem shipped), then ``--generations`` timed generations of the same population;
@@ -32,10 +32,15 @@ from datetime import date
 import numpy as np
 from generation_bench import evolved_looking
 
-from mentor_core.evaluators import Evaluator, InProcessEvaluator, PoolEvaluator, RayEvaluator
-from mentor_core.problem import NavigationProblem
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.training.evaluators import (
+    Evaluator,
+    InProcessEvaluator,
+    PoolEvaluator,
+    RayEvaluator,
+)
+from mentor_core.training.problem import NavigationProblem
 
 
 def start(name: str, problem: NavigationProblem, workers: int) -> Evaluator:

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.sparse.csgraph import minimum_spanning_tree
 from scipy.spatial.distance import pdist, squareform
 
-from mentor_core.experience import experience_gain, experience_gains
+from mentor_core.objectives.experience import experience_gain, experience_gains
 
 SENSOR_RANGE = 4.0  # m, UGV sensor range max
 STEPS = 50  # decisions per scenario

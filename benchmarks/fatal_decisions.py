@@ -19,9 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from mentor_core.genome_io import load_genome_and_metadata
-from mentor_core.robots import get_profile
-from mentor_core.trainer import load_config_file, make_problem
+from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.sim.robots import get_profile
+from mentor_core.training.config import load_config_file
+from mentor_core.training.trainer import make_problem
 
 FRONT = math.radians(30.0)
 TURN = math.radians(20.0)

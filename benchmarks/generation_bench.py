@@ -22,13 +22,13 @@ import time
 
 import numpy as np
 
-from mentor_core.config import EvolutionConfig
-from mentor_core.evaluators import make_evaluator
-from mentor_core.genome import Genome
-from mentor_core.mutation import mutated_genomes
-from mentor_core.problem import NavigationProblem
-from mentor_core.robots import get_profile, with_planner
-from mentor_core.scenarios import training_scenarios
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.mutation import mutated_genomes
+from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.training.evaluators import make_evaluator
+from mentor_core.training.problem import NavigationProblem
 
 
 def evolved_looking(n: int, n_inputs: int, robot: str, rounds: int, seed: int) -> list[Genome]:

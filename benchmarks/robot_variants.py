@@ -21,7 +21,7 @@ from typing import Any
 
 import yaml
 
-from mentor_core.robots import shipped_profiles_path
+from mentor_core.sim.robots import shipped_profiles_path
 
 SCALED = ("length", "width", "sensor_range", "step_min", "step_max", "rated_speed",
           "goal_radius", "train_arena", "test_arena")  # fmt: skip

@@ -23,13 +23,13 @@ from typing import Any
 
 import numpy as np
 
-from mentor_core.collision import sample_counts
-from mentor_core.episode import EpisodeBatch, run_episodes
-from mentor_core.pymunk_world import PymunkWorld
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
-from mentor_core.sensors import HAVE_NUMBA
-from mentor_core.world import Scenario
+from mentor_core.sim.collision import sample_counts
+from mentor_core.sim.episode import EpisodeBatch, run_episodes
+from mentor_core.sim.pymunk_world import PymunkWorld
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.sim.sensors import HAVE_NUMBA
+from mentor_core.sim.world import Scenario
 
 SEED = 0
 MAX_DECISIONS = 50

@@ -22,10 +22,11 @@ from typing import Any
 
 from generation_bench import evolved_looking
 
-from mentor_core import batch_network, engine, observation, sensors
-from mentor_core.problem import NavigationProblem
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
+from mentor_core.evolution import batch_network
+from mentor_core.sim import engine, observation, sensors
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.training.problem import NavigationProblem
 
 STAGES = (
     (engine.BatchEngine, "step", "engine step (arc, swept collision, goal)"),

@@ -6,15 +6,15 @@
 
 Both sides drive the same paper-scale UGV genomes (minimal genomes put through ``--rounds``
 of the paper's mutation, :func:`generation_bench.evolved_looking`) through the same training
-scenarios with the SAME simulator step: :func:`mentor_core.episode.run_episodes`, i.e. per
+scenarios with the SAME simulator step: :func:`mentor_core.sim.episode.run_episodes`, i.e. per
 decision the range sensors (numba ray casts), the network inputs
-(:func:`mentor_core.observation.network_inputs`), the network, the actions
-(:func:`~mentor_core.observation.actions_from_outputs`), the swept-arc step of
-:class:`mentor_core.engine.BatchEngine` (numba collision kernels) and the experience-point
+(:func:`mentor_core.sim.observation.network_inputs`), the network, the actions
+(:func:`~mentor_core.sim.observation.actions_from_outputs`), the swept-arc step of
+:class:`mentor_core.sim.engine.BatchEngine` (numba collision kernels) and the experience-point
 bookkeeping. Neither side computes objectives or the experience MST.
 
 * mentor_core ("ours"): ``NavigationProblem.simulate(genomes)``, the trainer's path: all
-  genomes compiled into one :class:`mentor_core.batch_network.BatchNetwork` (compile time
+  genomes compiled into one :class:`mentor_core.evolution.batch_network.BatchNetwork` (compile time
   included), then all ``genomes x scenarios`` robots stepped together, one batched network
   call per decision over all active robots of all genomes.
 * neat-python: each genome converted to a ``neat.DefaultGenome`` (same nodes, connections,
@@ -54,15 +54,15 @@ import neat
 import numpy as np
 from generation_bench import evolved_looking
 
-import mentor_core.batch_network
-from mentor_core.batch_network import BatchNetwork
-from mentor_core.episode import EpisodeBatch, run_episodes
-from mentor_core.genome import Genome
-from mentor_core.network import NEAT_SIGMOID_SLOPE, FeedForwardNetwork
-from mentor_core.problem import NavigationProblem
-from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.scenarios import training_scenarios
-from mentor_core.world import Scenario
+import mentor_core.evolution.batch_network
+from mentor_core.evolution.batch_network import BatchNetwork
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.network import NEAT_SIGMOID_SLOPE, FeedForwardNetwork
+from mentor_core.sim.episode import EpisodeBatch, run_episodes
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.sim.world import Scenario
+from mentor_core.training.problem import NavigationProblem
 
 TOL = 1e-9
 CHECK_STEPS = 5
@@ -289,7 +289,7 @@ def main() -> None:
 
     # breakdown run (not the headline): time inside our network's activate
     net_clock = [0.0]
-    plain_activate = mentor_core.batch_network.BatchNetwork.activate
+    plain_activate = mentor_core.evolution.batch_network.BatchNetwork.activate
 
     def clocked(self: BatchNetwork, inputs: Any, owners: Any, **kwargs: Any) -> Any:
         t0 = time.perf_counter()
@@ -297,11 +297,11 @@ def main() -> None:
         net_clock[0] += time.perf_counter() - t0
         return out
 
-    mentor_core.batch_network.BatchNetwork.activate = clocked  # type: ignore[method-assign]
+    mentor_core.evolution.batch_network.BatchNetwork.activate = clocked  # type: ignore[method-assign]
     t0 = time.perf_counter()
     problem.simulate(genomes)
     ours_breakdown_s = time.perf_counter() - t0
-    mentor_core.batch_network.BatchNetwork.activate = plain_activate  # type: ignore[method-assign]
+    mentor_core.evolution.batch_network.BatchNetwork.activate = plain_activate  # type: ignore[method-assign]
 
     # ---- neat-python: one robot at a time -----------------------------------------------
     neat_s, neat_net_s = float("inf"), 0.0

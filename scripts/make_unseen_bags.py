@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from mentor_core.bagio import write_scenario_bag
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import sample_scenarios
-from mentor_core.world import World
+from mentor_core.files.bags import write_scenario_bag
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import sample_scenarios
+from mentor_core.sim.world import World
 
 # (xmin, ymin, xmax, ymax) on a 12 x 12 m drawing
 LAYOUT_12M = (

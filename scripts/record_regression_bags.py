@@ -6,8 +6,8 @@ For each robot (ugv, swarm) and its committed reference genome
 
 1. the robot's training world of scenario seed 0 (the world the quick reference genomes were
    trained in; the paper's DoE) and its first candidate start/goal pairs; the in-process
-   reference episode (:func:`mentor_core.simulator.run_reference_episode`) of each candidate
-   picks up to ``--episodes`` scenarios, one per outcome (reached, collided, timed out)
+   reference episode (:func:`mentor_core.runtime.simulator.run_reference_episode`) of each
+   candidate picks up to ``--episodes`` scenarios, one per outcome (reached, collided, timed out)
    first, shortest first, so that the bags stay small and cover every ending;
 2. ``<robot>_scenarios/``: those scenarios as a scenario bag;
 3. ``<robot>_episodes/``: the simulator node (reading that scenario bag) and one planner node
@@ -37,13 +37,13 @@ for pkg in ("mentor_sim_node", "mentor_planner_node"):
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 os.environ.setdefault("ROS_DOMAIN_ID", "43")
 
-from mentor_core.bagio import read_episode_bag, write_scenario_bag  # noqa: E402
-from mentor_core.planning import GenomePlanner  # noqa: E402
-from mentor_core.recording import recorded_episodes  # noqa: E402
-from mentor_core.robots import get_profile  # noqa: E402
-from mentor_core.scenarios import training_scenarios  # noqa: E402
-from mentor_core.simulator import RobotSetup, run_reference_episode  # noqa: E402
-from mentor_core.world import Scenario  # noqa: E402
+from mentor_core.files.bags import read_episode_bag, write_scenario_bag  # noqa: E402
+from mentor_core.runtime.planner import GenomePlanner  # noqa: E402
+from mentor_core.runtime.recording import recorded_episodes  # noqa: E402
+from mentor_core.runtime.simulator import RobotSetup, run_reference_episode  # noqa: E402
+from mentor_core.sim.robots import get_profile  # noqa: E402
+from mentor_core.sim.scenarios import training_scenarios  # noqa: E402
+from mentor_core.sim.world import Scenario  # noqa: E402
 from mentor_sim_node.demo import run_graph  # noqa: E402
 
 SCENARIO_SEED = 0

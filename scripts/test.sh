@@ -11,6 +11,8 @@ export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-42}"
 export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
 echo "== ruff" >&2
 .venv/bin/ruff check mentor_core tests benchmarks scripts mentor_sim_node mentor_planner_node
+echo "== lint-imports (the import contracts of docs/architecture.md, in pyproject.toml)" >&2
+PYTHONPATH="$ROOT/mentor_sim_node:$ROOT/mentor_planner_node" .venv/bin/lint-imports --no-cache
 echo "== mypy --strict mentor_core" >&2
 .venv/bin/mypy --strict mentor_core/src/mentor_core
 echo "== pytest" >&2

@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from mentor_core.robots import RobotProfile, SensorMount, get_profile
+from mentor_core.sim.robots import RobotProfile, SensorMount, get_profile
 
 
 def facing_straight_out(profile: RobotProfile) -> RobotProfile:

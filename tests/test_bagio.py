@@ -18,8 +18,8 @@ from rosbags.interfaces import QosDurability, QosReliability
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
-from mentor_core import bagio
-from mentor_core.bagio import (
+from mentor_core.errors import FileFormatError
+from mentor_core.files.bags import (
     CmdRecord,
     EpisodeLog,
     EventRecord,
@@ -27,17 +27,16 @@ from mentor_core.bagio import (
     OdomRecord,
     RobotEpisode,
     ScanRecord,
-    quaternion_to_yaw,
     read_episode_bag,
     read_scenario_bag,
     scan_geometry,
     write_episode_bag,
     write_scenario_bag,
-    yaw_to_quaternion,
 )
-from mentor_core.errors import FileFormatError
-from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.world import Scenario, World
+from mentor_core.files.bags import writing as bag_writing
+from mentor_core.sim.frames import quaternion_to_yaw, yaw_to_quaternion
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.world import Scenario, World
 
 TS = get_typestore(Stores.ROS2_JAZZY)
 
@@ -410,7 +409,7 @@ def test_failed_write_leaves_nothing_and_keeps_the_old_bag(
             raise OSError("disk full")
         original(self, connection, timestamp, data)
 
-    monkeypatch.setattr(bagio.Writer, "write", failing_write)
+    monkeypatch.setattr(bag_writing.Writer, "write", failing_write)
     with pytest.raises(OSError, match="disk full"):
         write_scenario_bag(path, world, [], "swarm", overwrite=True)
     calls.clear()

@@ -12,10 +12,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_operator_properties import RunSpec, grow, run_specs
 
-from mentor_core import batch_network
-from mentor_core.batch_network import Backend, BatchNetwork
-from mentor_core.episode import run_episodes
-from mentor_core.genome import (
+from mentor_core.evolution import batch_network
+from mentor_core.evolution.batch_network import Backend, BatchNetwork
+from mentor_core.evolution.genome import (
     ConnectionGene,
     Genome,
     InvalidGenomeError,
@@ -23,12 +22,13 @@ from mentor_core.genome import (
     genome_from_edges,
     minimal_genome,
 )
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.network import ACTIVATION_NAMES, FeedForwardNetwork
-from mentor_core.problem import NavigationProblem
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.evolution.network import ACTIVATION_NAMES, FeedForwardNetwork
+from mentor_core.sim.episode import run_episodes
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.training.problem import NavigationProblem
 
 BACKENDS: tuple[Backend, ...] = ("numba", "numpy")
 needs_numba = pytest.mark.skipif(not batch_network.HAVE_NUMBA, reason="numba not importable")

@@ -8,7 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.checkpoint import (
+from mentor_core.errors import FileFormatError
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.loop import Evolution
+from mentor_core.files.checkpoint import (
     CHECKPOINT_FORMAT,
     CHECKPOINT_VERSION,
     Checkpointer,
@@ -16,9 +19,6 @@ from mentor_core.checkpoint import (
     read_checkpoint,
     save_checkpoint,
 )
-from mentor_core.config import EvolutionConfig
-from mentor_core.errors import FileFormatError
-from mentor_core.evolution import Evolution
 
 
 def evolved(generations: int = 2, seed: int = 0) -> Evolution:

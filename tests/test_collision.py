@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mentor_core.collision import (
+from mentor_core.sim.collision import (
     EVENT_COLLIDED,
     EVENT_NONE,
     EVENT_REACHED,
@@ -19,10 +19,10 @@ from mentor_core.collision import (
     swept_events,
     swept_samples,
 )
-from mentor_core.kinematics import arc_samples
-from mentor_core.robots import body_corners, get_profile
-from mentor_core.sensors import HAVE_NUMBA, Backend
-from mentor_core.world import World
+from mentor_core.sim.kinematics import arc_samples
+from mentor_core.sim.robots import body_corners, get_profile
+from mentor_core.sim.sensors import HAVE_NUMBA, Backend
+from mentor_core.sim.world import World
 
 UGV = get_profile("ugv")  # 0.30 x 0.25 m
 BACKENDS: list[Backend] = ["numpy", "numba"] if HAVE_NUMBA else ["numpy"]

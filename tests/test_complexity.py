@@ -7,16 +7,16 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mentor_core.complexity import flops, flops_ratio, minimal_flops
-from mentor_core.genome import (
+from mentor_core.evolution.genome import (
     Genome,
     InvalidGenomeError,
     NodeGene,
     genome_from_edges,
     minimal_genome,
 )
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.objectives.complexity import flops, flops_ratio, minimal_flops
 
 
 def minimal(

@@ -8,10 +8,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from mentor_core.config import EvolutionConfig
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.mutation import MutationConfig
-from mentor_core.species import SpeciationConfig
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.mutation import MutationConfig
+from mentor_core.evolution.species import SpeciationConfig
 
 CONFIG_DIR = Path(__file__).resolve().parents[1] / "mentor_core/src/mentor_core/configs"
 

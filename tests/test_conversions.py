@@ -20,9 +20,9 @@ from rclpy.serialization import deserialize_message, serialize_message  # noqa: 
 from sensor_msgs.msg import LaserScan  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 
-from mentor_core.observation import network_inputs  # noqa: E402
-from mentor_core.robots import RobotProfile, get_profile  # noqa: E402
-from mentor_core.world import World  # noqa: E402
+from mentor_core.sim.observation import network_inputs  # noqa: E402
+from mentor_core.sim.robots import RobotProfile, get_profile  # noqa: E402
+from mentor_core.sim.world import World  # noqa: E402
 from mentor_planner_node import conversions as planner  # noqa: E402
 from mentor_sim_node import conversions as sim  # noqa: E402
 

@@ -8,17 +8,17 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mentor_core.crossover import crossover
-from mentor_core.genome import (
+from mentor_core.evolution.crossover import crossover
+from mentor_core.evolution.genome import (
     Genome,
     InvalidGenomeError,
     genome_from_edges,
     minimal_genome,
     validate_genome,
 )
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.network import FeedForwardNetwork
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.evolution.network import FeedForwardNetwork
 
 Edge = tuple[int, int, float] | tuple[int, int, float, bool]
 

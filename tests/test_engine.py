@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mentor_core.collision import robot_collides, sample_counts
-from mentor_core.engine import BatchEngine
-from mentor_core.kinematics import arc_samples, unicycle_arc
-from mentor_core.robots import get_profile
-from mentor_core.sensors import sensor_readings
-from mentor_core.world import World
+from mentor_core.sim.collision import robot_collides, sample_counts
+from mentor_core.sim.engine import BatchEngine
+from mentor_core.sim.kinematics import arc_samples, unicycle_arc
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.sensors import sensor_readings
+from mentor_core.sim.world import World
 
 UGV = get_profile("ugv")  # goal radius 1 m
 WORLD = World(size=12.0, obstacles=np.array([[6.0, 1.0, 7.0, 3.0]]))

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from profiles_support import single_rays
 
-from mentor_core.episode import run_episodes
-from mentor_core.robots import get_profile, with_planner
-from mentor_core.world import Scenario, World
+from mentor_core.sim.episode import run_episodes
+from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.world import Scenario, World
 
 UGV = get_profile("ugv")  # dt 1 s, goal radius 1 m, ds in [0.1, 2] m, budget 2 d / (1 m/s)
 WORLD = World(size=12.0, obstacles=np.array([[6.0, 1.0, 7.0, 3.0]]))

@@ -8,15 +8,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.bagio import read_episode_bag, read_scenario_bag
 from mentor_core.cli.evaluate import main as mentor_eval
 from mentor_core.errors import ConfigError
-from mentor_core.genome import Genome, genome_from_edges
-from mentor_core.genome_io import save_genome
-from mentor_core.observation import action_from_twist
-from mentor_core.planning import GenomePlanner, planner_profile
-from mentor_core.recording import record_planners, recorded_episodes
-from mentor_core.robots import get_profile, sensor_record
+from mentor_core.evolution.genome import Genome, genome_from_edges
+from mentor_core.files.bags import read_episode_bag, read_scenario_bag
+from mentor_core.files.genome_file import save_genome
+from mentor_core.runtime.planner import GenomePlanner, planner_profile
+from mentor_core.runtime.recording import record_planners, recorded_episodes
+from mentor_core.sim.observation import action_from_twist
+from mentor_core.sim.robots import get_profile, sensor_record
 
 ROOT = Path(__file__).resolve().parents[1]
 UNSEEN_SWARM = ROOT / "bags" / "unseen" / "swarm"

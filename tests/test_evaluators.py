@@ -19,9 +19,12 @@ import pytest
 import yaml
 
 from mentor_core.cli import train as train_cli
-from mentor_core.config import EvolutionConfig
 from mentor_core.errors import ConfigError, MentorError
-from mentor_core.evaluators import (
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.mutation import mutated_genomes
+from mentor_core.training.config import TrainerConfig
+from mentor_core.training.evaluators import (
     BackendError,
     InProcessEvaluator,
     PoolEvaluator,
@@ -29,10 +32,8 @@ from mentor_core.evaluators import (
     _check_reachable,
     make_evaluator,
 )
-from mentor_core.genome import Genome
-from mentor_core.mutation import mutated_genomes
-from mentor_core.problem import Evaluation, NavigationProblem
-from mentor_core.trainer import TrainerConfig, make_problem, train
+from mentor_core.training.problem import Evaluation, NavigationProblem
+from mentor_core.training.trainer import make_problem, train
 
 try:
     importlib.import_module("ray")

@@ -7,14 +7,14 @@ import json
 import numpy as np
 import pytest
 
-from mentor_core.config import EvolutionConfig
 from mentor_core.errors import FileFormatError
-from mentor_core.evolution import Evolution
-from mentor_core.genome import Genome
-from mentor_core.network import FeedForwardNetwork
-from mentor_core.ranking import scalar_fitness
-from mentor_core.reporting import GenerationStats, HistoryReporter, Reporter
-from mentor_core.species import SpeciationConfig
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.loop import Evolution
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.evolution.ranking import scalar_fitness
+from mentor_core.evolution.reporting import GenerationStats, HistoryReporter, Reporter
+from mentor_core.evolution.species import SpeciationConfig
 
 X = np.array([[0.0, 0.0], [0.0, 1.0], [1.0, 0.0], [1.0, 1.0]])
 

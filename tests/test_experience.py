@@ -1,4 +1,4 @@
-"""Tests of mentor_core.experience against scipy's dense minimum spanning tree."""
+"""Tests of mentor_core.objectives.experience against scipy's dense minimum spanning tree."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from scipy.sparse import coo_array
 from scipy.sparse.csgraph import minimum_spanning_tree
 from scipy.spatial.distance import pdist
 
-from mentor_core.experience import METHODS, experience_gain, experience_gains
+from mentor_core.objectives.experience import METHODS, experience_gain, experience_gains
 
 SENSOR_RANGE = 4.0
 

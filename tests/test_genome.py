@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mentor_core.genome import (
+from mentor_core.evolution.genome import (
     ConnectionGene,
     Genome,
     InvalidGenomeError,
@@ -18,7 +18,7 @@ from mentor_core.genome import (
     topological_order,
     validate_genome,
 )
-from mentor_core.innovation import InnovationTracker
+from mentor_core.evolution.innovation import InnovationTracker
 
 # 2 inputs (0, 1), bias 2, outputs 3, 4; hidden from 5
 N_IN, N_OUT = 2, 2

@@ -13,17 +13,12 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import FileFormatError
-from mentor_core.genome import Genome, minimal_genome
-from mentor_core.genome_io import (
-    genome_from_dict,
-    genome_to_dict,
-    load_genome,
-    load_genome_and_metadata,
-    save_genome,
-)
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.network import FeedForwardNetwork
+from mentor_core.evolution.genome import Genome, minimal_genome
+from mentor_core.evolution.genome_codec import genome_from_dict, genome_to_dict
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.files.genome_file import load_genome, load_genome_and_metadata, save_genome
 
 
 def evolved(seed: int = 0) -> Genome:

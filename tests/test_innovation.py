@@ -7,7 +7,7 @@ import json
 import pytest
 
 from mentor_core.errors import FileFormatError
-from mentor_core.innovation import InnovationTracker
+from mentor_core.evolution.innovation import InnovationTracker
 
 
 def test_same_pair_same_number_new_pairs_count_up() -> None:

@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mentor_core.kinematics import arc_fraction_poses, arc_samples, unicycle_arc, wrap_angle
+from mentor_core.sim.kinematics import arc_fraction_poses, arc_samples, unicycle_arc, wrap_angle
 
 finite = st.floats(-10.0, 10.0, allow_nan=False)
 
@@ -77,7 +77,7 @@ def test_arc_fraction_poses_broadcasts() -> None:
 
 
 def test_compiled_arc_agrees_with_its_numpy_twin() -> None:
-    from mentor_core import kinematics
+    from mentor_core.sim import kinematics
 
     rng = np.random.default_rng(7)
     n = 20_000

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from mentor_core.lockstep import HOLD, CommandBarrier, LatestCommands
+from mentor_core.runtime.lockstep import HOLD, CommandBarrier, LatestCommands
 
 
 def test_barrier_steps_when_everyone_has_answered_once() -> None:
@@ -48,3 +48,11 @@ def test_latest_commands_in_real_time() -> None:
     decisions, missing = latest.take(["a", "b"])
     assert decisions == {"a": (0.3, 0.4), "b": HOLD} and missing == ["b"]
     assert latest.take(["a"]) == ({"a": HOLD}, ["a"])
+
+
+def test_latest_commands_name_the_robots_without_one() -> None:
+    latest = LatestCommands()
+    latest.answer("b", (0.1, 0.2))
+    assert latest.missing(["c", "b", "a"]) == ["c", "a"]
+    assert latest.take(iter(["a", "b"])) == ({"a": HOLD, "b": (0.1, 0.2)}, ["a"])
+    assert latest.missing(["b"]) == ["b"]

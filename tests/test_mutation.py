@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError
-from mentor_core.genome import (
+from mentor_core.evolution.genome import (
     Genome,
     genome_from_edges,
     minimal_genome,
     validate_genome,
 )
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate, mutate_weights
-from mentor_core.network import FeedForwardNetwork
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate, mutate_weights
+from mentor_core.evolution.network import FeedForwardNetwork
 
 WEIGHTS_ONLY = MutationConfig(node_rate=0.0, edge_rate=0.0)
 NODES_ONLY = MutationConfig(weight_rate=0.0, node_rate=1.0, edge_rate=0.0)

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
-from mentor_core.genome import (
+from mentor_core.evolution.genome import (
     ConnectionGene,
     Genome,
     InvalidGenomeError,
@@ -16,9 +16,9 @@ from mentor_core.genome import (
     genome_from_edges,
     minimal_genome,
 )
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.network import FeedForwardNetwork, weighted_sum
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.evolution.network import FeedForwardNetwork, weighted_sum
 
 
 def _naive_activation(name: str, x: float) -> float:

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mentor_core.episode import EpisodeBatch
-from mentor_core.objectives import performance, scenario_performance
+from mentor_core.objectives.performance import performance, scenario_performance
+from mentor_core.sim.episode import EpisodeBatch
 
 
 def test_hand_computed_values() -> None:

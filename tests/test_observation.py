@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mentor_core.errors import ConfigError
-from mentor_core.observation import (
+from mentor_core.sim.observation import (
     action_from_twist,
     actions_from_outputs,
     clearance_limit,
@@ -21,7 +21,7 @@ from mentor_core.observation import (
     signal_gradient,
     twist_from_action,
 )
-from mentor_core.robots import get_profile, with_planner
+from mentor_core.sim.robots import get_profile, with_planner
 
 SWARM = get_profile("swarm")
 UGV = get_profile("ugv")

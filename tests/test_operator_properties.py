@@ -10,12 +10,12 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mentor_core.crossover import crossover
-from mentor_core.genome import Genome, minimal_genome, validate_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.network import FeedForwardNetwork
-from mentor_core.species import distance
+from mentor_core.evolution.crossover import crossover
+from mentor_core.evolution.genome import Genome, minimal_genome, validate_genome
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.evolution.species import distance
 
 PROPERTY = settings(max_examples=50, deadline=None)
 # add-edge is per node pair, so growth is explosive: stop growing past this many genes

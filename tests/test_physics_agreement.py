@@ -1,6 +1,6 @@
 """The batched engine agrees with the pymunk reference physics.
 
-Random worlds (the paper's DoE, :func:`mentor_core.scenarios.sample_world`) and random poses:
+Random worlds (the paper's DoE, :func:`mentor_core.sim.scenarios.sample_world`) and random poses:
 equal range readings (to 1e-9 m, +inf equal +inf) and equal collision verdicts, static and
 swept. Configurations within ``DEGENERATE`` of a touching one (a ray through a box corner, a
 sensor on a box edge, a hit at exactly range max, a body touching a box or wall) are skipped:
@@ -17,20 +17,21 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from profiles_support import rays_as_sensors
 
-from mentor_core.collision import (
+from mentor_core.sim.collision import (
     robot_collides,
     sample_counts,
     separation_margin,
     swept_collision,
     swept_samples,
 )
-from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.scenarios import sample_world
-from mentor_core.sensors import beam_frames, sensor_readings
-from mentor_core.world import World
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.scenarios import sample_world
+from mentor_core.sim.sensors import beam_frames, sensor_readings
+from mentor_core.sim.world import World
 
 pymunk_world = pytest.importorskip(
-    "mentor_core.pymunk_world", reason="mentor_core.pymunk_world (reference physics) is missing"
+    "mentor_core.sim.pymunk_world",
+    reason="mentor_core.sim.pymunk_world (reference physics) is missing",
 )
 
 DEGENERATE = 1e-7  # m

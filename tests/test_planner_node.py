@@ -18,8 +18,8 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.planning import GenomePlanner
-from mentor_core.robots import get_profile
+from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.sim.robots import get_profile
 from mentor_planner_node.planner import QOS_COMMAND, QOS_LATCHED, PlannerNode
 from mentor_sim_node import conversions as sim_conv
 

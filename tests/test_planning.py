@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.genome import minimal_genome
-from mentor_core.genome_io import save_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.network import FeedForwardNetwork
-from mentor_core.observation import actions_from_outputs, network_inputs, twist_from_action
-from mentor_core.planning import DecisionGate, GenomePlanner
-from mentor_core.robots import get_profile
+from mentor_core.evolution.genome import minimal_genome
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.files.genome_file import save_genome
+from mentor_core.runtime.planner import DecisionGate, GenomePlanner
+from mentor_core.sim.observation import actions_from_outputs, network_inputs, twist_from_action
+from mentor_core.sim.robots import get_profile
 
 UGV = get_profile("ugv")
 SWARM = get_profile("swarm")

@@ -12,9 +12,9 @@ import pytest
 from profiles_support import UGV_STRAIGHT
 
 from mentor_core.cli.draw import main, straight_to_goal
-from mentor_core.plots import draw_world, new_figure, save_png
-from mentor_core.pymunk_world import PymunkWorld
-from mentor_core.world import Scenario, World, save_world
+from mentor_core.report.plots import draw_world, new_figure, save_png
+from mentor_core.sim.pymunk_world import PymunkWorld
+from mentor_core.sim.world import Scenario, World, save_world
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 UGV = UGV_STRAIGHT  # a pair on each edge facing straight out: rays easy to check by hand
@@ -71,7 +71,7 @@ def test_importing_plots_and_cli_leaves_pyplot_and_backend_alone() -> None:
     code = (
         "import sys, matplotlib\n"
         "before = matplotlib.rcParams._get_backend_or_none()\n"
-        "import mentor_core.plots, mentor_core.cli.draw\n"
+        "import mentor_core.report.plots, mentor_core.cli.draw\n"
         "print('matplotlib.pyplot' in sys.modules, matplotlib.rcParams._get_backend_or_none()"
         " == before)\n"
     )

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from profiles_support import UGV_STRAIGHT
 
-from mentor_core.pymunk_world import PymunkWorld
-from mentor_core.robots import get_profile
-from mentor_core.world import World
+from mentor_core.sim.pymunk_world import PymunkWorld
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.world import World
 
 UGV = UGV_STRAIGHT  # 0.30 x 0.25 m, a pair on each edge facing straight out, range 4 m
 SWARM = get_profile("swarm")
@@ -145,8 +145,8 @@ def test_drive_follows_the_arc_and_stops_at_the_first_event() -> None:
 
 
 def test_drive_agrees_with_the_batched_engine() -> None:
-    from mentor_core.engine import BatchEngine
-    from mentor_core.scenarios import sample_world
+    from mentor_core.sim.engine import BatchEngine
+    from mentor_core.sim.scenarios import sample_world
 
     world = sample_world(12.0, np.random.default_rng(2))
     rng = np.random.default_rng(9)

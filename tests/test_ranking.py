@@ -1,4 +1,5 @@
-"""Tests of mentor_core.ranking against pymoo 0.6.2 (fast non-dominated sort, "cd" crowding)."""
+"""Tests of mentor_core.evolution.ranking against pymoo 0.6.2 (fast non-dominated sort, "cd"
+crowding)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from hypothesis.extra.numpy import arrays
 from pymoo.operators.survival.rank_and_crowding.metrics import get_crowding_function
 from pymoo.util.nds.fast_non_dominated_sort import fast_non_dominated_sort
 
-from mentor_core.ranking import crowding_distance, non_dominated_ranks, scalar_fitness
+from mentor_core.evolution.ranking import crowding_distance, non_dominated_ranks, scalar_fitness
 
 
 def pymoo_ranks(objectives: np.ndarray) -> np.ndarray:

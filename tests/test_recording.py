@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.bagio import EpisodeLog, read_episode_bag
 from mentor_core.errors import FileFormatError
-from mentor_core.recording import (
+from mentor_core.files.bags import EpisodeLog, read_episode_bag
+from mentor_core.runtime.recording import (
     EpisodeRecorder,
     episode_setups,
     recorded_episodes,
@@ -17,9 +17,9 @@ from mentor_core.recording import (
     world_from_json,
     world_to_json,
 )
-from mentor_core.robots import get_profile
-from mentor_core.simulator import ReferenceSimulator, RobotSetup
-from mentor_core.world import World
+from mentor_core.runtime.simulator import ReferenceSimulator, RobotSetup
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.world import World
 
 SWARM = get_profile("swarm")
 S = 1_000_000_000

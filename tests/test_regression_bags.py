@@ -2,9 +2,9 @@
 recorded from the real nodes by scripts/record_regression_bags.py) are reproduced today.
 
 * open loop: every recorded scan, odometry and goal, fed to the planner's computation
-  (:class:`mentor_core.planning.GenomePlanner`), gives the recorded cmd_vel, exactly;
+  (:class:`mentor_core.runtime.planner.GenomePlanner`), gives the recorded cmd_vel, exactly;
 * closed loop: re-simulating each recorded scenario with the genome in the loop
-  (:func:`mentor_core.simulator.run_reference_episode`) reproduces the recorded odometry
+  (:func:`mentor_core.runtime.simulator.run_reference_episode`) reproduces the recorded odometry
   within 1e-6 m (in fact exactly), the recorded scans, and the same outcome.
 
 No ROS graph is needed: the bags are read with rosbags.
@@ -21,13 +21,13 @@ import numpy as np
 import pytest
 import yaml
 
-from mentor_core.bagio import EpisodeLog, GoalRecord, read_episode_bag, read_scenario_bag
 from mentor_core.errors import FileFormatError
-from mentor_core.genome import ConnectionGene, Genome
-from mentor_core.genome_io import save_genome
-from mentor_core.planning import GenomePlanner
-from mentor_core.recording import RecordedRun, recorded_episodes, recording_world
-from mentor_core.simulator import run_reference_episode
+from mentor_core.evolution.genome import ConnectionGene, Genome
+from mentor_core.files.bags import EpisodeLog, GoalRecord, read_episode_bag, read_scenario_bag
+from mentor_core.files.genome_file import save_genome
+from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.recording import RecordedRun, recorded_episodes, recording_world
+from mentor_core.runtime.simulator import run_reference_episode
 
 ROOT = Path(__file__).resolve().parents[1]
 REGRESSION = ROOT / "bags" / "regression"

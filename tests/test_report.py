@@ -18,20 +18,19 @@ from matplotlib.image import imread
 
 from mentor_core.cli.report import main as report_main
 from mentor_core.errors import FileFormatError
-from mentor_core.genome import ConnectionGene, Genome, NodeGene
-from mentor_core.genome_io import genome_to_dict, save_genome
-from mentor_core.report import (
+from mentor_core.evolution.genome import ConnectionGene, Genome, NodeGene
+from mentor_core.evolution.genome_codec import genome_to_dict
+from mentor_core.files.genome_file import save_genome
+from mentor_core.report.figures import (
     complexity_bins,
-    load_eval,
-    load_run,
     niche_share_matrix,
     node_layers,
     pareto_front,
-    read_history,
     topology,
-    write_report,
 )
-from mentor_core.trainer import HISTORY_FIELDS, GenerationRecord
+from mentor_core.report.markdown import write_report
+from mentor_core.report.runs import load_eval, load_run, read_history
+from mentor_core.training.run_files import HISTORY_FIELDS, GenerationRecord
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 N_RAYS = 8
@@ -114,7 +113,7 @@ def make_run(
     finished: bool = True,
     dominant: bool = False,
 ) -> Path:
-    """A run directory laid out as mentor_core.trainer.train leaves it."""
+    """A run directory laid out as mentor_core.training.trainer.train leaves it."""
     rng = np.random.default_rng(seed + (100 if framework == "dual" else 0))
     run = root / name
     run.mkdir(parents=True)

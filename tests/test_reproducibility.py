@@ -6,11 +6,11 @@ from pathlib import Path
 
 import numpy as np
 
-from mentor_core.checkpoint import load_checkpoint, save_checkpoint
-from mentor_core.config import EvolutionConfig
-from mentor_core.evolution import Evolution
-from mentor_core.genome import Genome
-from mentor_core.network import FeedForwardNetwork
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.loop import Evolution
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.files.checkpoint import load_checkpoint, save_checkpoint
 
 X = np.random.default_rng(1234).uniform(-1.0, 1.0, (8, 3))
 GENERATIONS = 8

@@ -7,17 +7,17 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mentor_core.config import EvolutionConfig
-from mentor_core.genome import Genome, minimal_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig
-from mentor_core.reproduction import (
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import Genome, minimal_genome
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig
+from mentor_core.evolution.reproduction import (
     elite_count,
     global_count,
     order_by_fitness,
     reproduce,
 )
-from mentor_core.selection import niche_sizes
+from mentor_core.evolution.selection import niche_sizes
 
 # No mutation and no crossover: every child is an exact copy of its (first) parent, so each
 # child can be traced back to the genome it came from.

@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.robots import (
+from mentor_core.sim.robots import (
     ROBOTS_ENV,
     body_corners,
     default_profiles_path,

@@ -1,12 +1,12 @@
 """End to end: the simulator node and planner nodes exchange real messages, and the episodes
 they produce equal mentor_core's in-process episodes for the same genome and scenarios.
 
-The in-process reference is :func:`mentor_core.simulator.run_reference_episode`: the same
+The in-process reference is :func:`mentor_core.runtime.simulator.run_reference_episode`: the same
 pymunk physics, the planner's :class:`GenomePlanner`, and the values a message carries (float32
 scan ranges, the heading through a quaternion, the decision through a Twist). Agreement is
 asserted within 1e-6 m; it is in fact exact.
 
-(The trainer's batched engine, :func:`mentor_core.episode.run_episodes`, feeds its networks
+(The trainer's batched engine, :func:`mentor_core.sim.episode.run_episodes`, feeds its networks
 float64 readings; the float32 of a LaserScan changes the inputs by ~1e-7 relative, which a
 trained network may amplify over tens of decisions, so ROS episodes are compared with the
 reference that mirrors the wire, not with the trainer's episodes. ``tests/test_simulator.py``
@@ -23,14 +23,14 @@ import numpy as np
 import pytest
 from ros_support import REGRESSION, ROOT, Graph, params, workspace_env
 
-from mentor_core.bagio import read_episode_bag
-from mentor_core.observation import twist_from_action
-from mentor_core.planning import GenomePlanner
-from mentor_core.recording import recorded_episodes
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
-from mentor_core.simulator import RobotSetup, run_reference_episode
-from mentor_core.world import save_world
+from mentor_core.files.bags import read_episode_bag
+from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.recording import recorded_episodes
+from mentor_core.runtime.simulator import RobotSetup, run_reference_episode
+from mentor_core.sim.observation import twist_from_action
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.sim.world import save_world
 from mentor_planner_node.planner import PlannerNode
 from mentor_sim_node.sim import SimNode
 

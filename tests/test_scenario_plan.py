@@ -7,11 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.bagio import write_scenario_bag
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.robots import get_profile
-from mentor_core.scenario_plan import ScenarioPlan, ScenarioSource, load_scenario_source
-from mentor_core.world import Scenario, World, save_world
+from mentor_core.files.bags import write_scenario_bag
+from mentor_core.runtime.scenario_plan import ScenarioPlan, ScenarioSource, load_scenario_source
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.world import Scenario, World, save_world
 
 UGV = get_profile("ugv")
 SWARM = get_profile("swarm")

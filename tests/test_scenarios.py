@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import (
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import (
     CLEARANCE_FACTOR,
     DoEConfig,
     latin_hypercube,
@@ -18,7 +18,7 @@ from mentor_core.scenarios import (
     sample_world,
     training_scenarios,
 )
-from mentor_core.world import Scenario, World
+from mentor_core.sim.world import Scenario, World
 
 
 def test_latin_hypercube_has_one_point_per_slice() -> None:

@@ -1,4 +1,5 @@
-"""Tests of mentor_core.selection: niche sizes (paper eq. 2), tournament, rank-proportionate."""
+"""Tests of mentor_core.evolution.selection: niche sizes (paper eq. 2), tournament,
+rank-proportionate."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.stats import chisquare
 
-from mentor_core.selection import niche_sizes, rank_proportionate, tournament
+from mentor_core.evolution.selection import niche_sizes, rank_proportionate, tournament
 
 
 @settings(max_examples=80, deadline=None)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from profiles_support import UGV_STRAIGHT, rays_as_sensors, single_rays
 
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import sample_world
-from mentor_core.sensors import (
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import sample_world
+from mentor_core.sim.sensors import (
     HAVE_NUMBA,
     Backend,
     beam_frames,
@@ -18,7 +18,7 @@ from mentor_core.sensors import (
     sensor_frames,
     sensor_readings,
 )
-from mentor_core.world import World
+from mentor_core.sim.world import World
 
 BOX = np.array([[3.0, 0.5, 4.0, 1.5]])
 BACKENDS = ["numpy", "numba"] if HAVE_NUMBA else ["numpy"]

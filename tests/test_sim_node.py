@@ -22,13 +22,13 @@ from std_msgs.msg import String
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
-from mentor_core.bagio import read_episode_bag, write_episode_bag, write_scenario_bag
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.kinematics import unicycle_arc
-from mentor_core.pymunk_world import PymunkWorld
-from mentor_core.recording import recorded_episodes
-from mentor_core.robots import get_profile
-from mentor_core.world import Scenario, World, save_world
+from mentor_core.files.bags import read_episode_bag, write_episode_bag, write_scenario_bag
+from mentor_core.runtime.recording import recorded_episodes
+from mentor_core.sim.kinematics import unicycle_arc
+from mentor_core.sim.pymunk_world import PymunkWorld
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.world import Scenario, World, save_world
 from mentor_sim_node.sim import QOS_COMMAND, QOS_LATCHED, SimNode, SimSetupError
 
 pytestmark = pytest.mark.ros

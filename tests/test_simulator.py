@@ -9,14 +9,11 @@ import numpy as np
 import pytest
 from profiles_support import UGV_STRAIGHT
 
-from mentor_core.episode import run_episodes
-from mentor_core.genome import minimal_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.network import FeedForwardNetwork
-from mentor_core.planning import GenomePlanner
-from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.scenarios import training_scenarios
-from mentor_core.simulator import (
+from mentor_core.evolution.genome import minimal_genome
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.simulator import (
     ReferenceSimulator,
     RobotSetup,
     decision_limit,
@@ -27,7 +24,10 @@ from mentor_core.simulator import (
     wire_pose,
     wire_ranges,
 )
-from mentor_core.world import World
+from mentor_core.sim.episode import run_episodes
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.sim.world import World
 
 UGV = get_profile("ugv")
 SWARM = get_profile("swarm")

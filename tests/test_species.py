@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError
-from mentor_core.genome import Genome, genome_from_edges, minimal_genome, validate_genome
-from mentor_core.innovation import InnovationTracker
-from mentor_core.mutation import MutationConfig, mutate
-from mentor_core.species import SpeciationConfig, adjust_threshold, distance, speciate
+from mentor_core.evolution.genome import Genome, genome_from_edges, minimal_genome, validate_genome
+from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.evolution.mutation import MutationConfig, mutate
+from mentor_core.evolution.species import SpeciationConfig, adjust_threshold, distance, speciate
 
 # 2 inputs (0, 1), bias 2, outputs 3, 4: innovation k is the k-th of these edges
 PAIRS = [(0, 3), (1, 3), (2, 3), (0, 4), (1, 4), (2, 4)]

@@ -10,10 +10,12 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.evaluators import InProcessEvaluator, PoolEvaluator
-from mentor_core.genome_io import load_genome_and_metadata
-from mentor_core.robots import get_profile, sensor_record
-from mentor_core.trainer import TrainerConfig, load_population, make_problem, train
+from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.sim.robots import get_profile, sensor_record
+from mentor_core.training.config import TrainerConfig
+from mentor_core.training.evaluators import InProcessEvaluator, PoolEvaluator
+from mentor_core.training.run_files import load_population
+from mentor_core.training.trainer import make_problem, train
 
 TINY = {
     "robot": "swarm",
@@ -137,7 +139,7 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
 def test_pool_backend_is_bit_identical_to_in_process() -> None:
     config = tiny()
     problem = make_problem(config)
-    from mentor_core.evolution import Evolution
+    from mentor_core.evolution.loop import Evolution
 
     evo = Evolution(config.evolution, problem.n_inputs, 2, seed=0, objectives=2)
     genomes = evo.ask()

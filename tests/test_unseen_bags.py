@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.bagio import read_scenario_bag
-from mentor_core.robots import get_profile
-from mentor_core.scenarios import training_scenarios
+from mentor_core.files.bags import read_scenario_bag
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scenarios import training_scenarios
 
 ROOT = Path(__file__).resolve().parents[1]
 UNSEEN = ROOT / "bags" / "unseen"

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import FileFormatError
-from mentor_core.world import Scenario, World, load_world, save_world
+from mentor_core.sim.world import Scenario, World, load_world, save_world
 
 BOXES = np.array([[1.0, 1.0, 2.0, 3.0], [2.0, 1.0, 4.0, 2.0]])  # touching, not overlapping
 

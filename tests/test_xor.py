@@ -18,8 +18,8 @@ from mentor_core.cli.xor import (
     xor_outputs,
     xor_solved,
 )
-from mentor_core.config import EvolutionConfig
-from mentor_core.genome import ConnectionGene, Genome, NodeGene
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import ConnectionGene, Genome, NodeGene
 
 
 def hand_made_xor() -> Genome:

@@ -3,7 +3,7 @@
 The planner reads ``<ns>/scan`` (ranges in the robot profile's sensor order, +inf out of range,
 see ``mentor_sim_node.conversions``), ``<ns>/odom`` (pose in ``odom`` = ``map`` in the
 simulator) and ``<ns>/goal`` (``map``), and answers on ``<ns>/cmd_vel``. The network inputs
-themselves come from the one shared function ``mentor_core.observation.network_inputs``, which
+themselves come from the one shared function ``mentor_core.network_inputs``, which
 clips +inf to the sensor range; nothing here changes a reading.
 """
 
@@ -21,11 +21,11 @@ from numpy.typing import NDArray
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
 
-from mentor_core import observation
-from mentor_core.bagio import EVENT_FORMAT, EVENT_KINDS, MAP_FRAME, quaternion_to_yaw
+from mentor_core import EVENT_FORMAT, EVENT_KINDS, MAP_FRAME, quaternion_to_yaw
+from mentor_core import twist_from_action as _twist_from_action
 
 if TYPE_CHECKING:
-    from mentor_core.robots import RobotProfile
+    from mentor_core import RobotProfile
 
 #: Frames a goal may be given in: the arena frame, or none (taken as the arena frame).
 GOAL_FRAMES = (MAP_FRAME, "")
@@ -115,5 +115,5 @@ def twist_from_action(dtheta: float, ds: float, dt: float) -> Twist:
     """
     if not (math.isfinite(dtheta) and math.isfinite(ds)):
         raise ValueError(f"non-finite action (dtheta={dtheta}, ds={ds})")
-    angular_z, linear_x = observation.twist_from_action(dtheta, ds, dt)
+    angular_z, linear_x = _twist_from_action(dtheta, ds, dt)
     return Twist(linear=Vector3(x=float(linear_x)), angular=Vector3(z=float(angular_z)))

@@ -2,9 +2,9 @@
 
 It subscribes ``scan``, ``odom``, ``goal`` (and ``events``) in its namespace and answers every
 new observation (a scan and an odometry with the same stamp) with one ``cmd_vel``: once per
-control period. The decision is :class:`mentor_core.planning.GenomePlanner`, the trainer's own
-input and output functions; when to decide and when data is stale is
-:class:`mentor_core.planning.DecisionGate`. A watchdog on the node's clock (sim time under
+control period. The decision is :class:`mentor_core.GenomePlanner`, the trainer's own input
+and output functions; when to decide and when data is stale is
+:class:`mentor_core.DecisionGate`. A watchdog on the node's clock (sim time under
 ``use_sim_time``) sends a zero Twist with a throttled warning when no observation could be
 answered for ``stale_timeout`` s. A corrupt genome or an unknown profile is one line on stderr
 and exit status 2.
@@ -32,9 +32,7 @@ from rclpy.qos import (
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
 
-from mentor_core.errors import MentorError
-from mentor_core.planning import DecisionGate, GenomePlanner
-from mentor_core.robots import get_profile
+from mentor_core import DecisionGate, GenomePlanner, MentorError, get_profile
 from mentor_planner_node import conversions
 
 NODE_NAME = "mentor_planner"
@@ -69,7 +67,7 @@ def _descriptor(text: str, low: float | None = None) -> ParameterDescriptor:
 class PlannerNode(Node):
     """Runs an evolved genome as a path planner (module docstring; ``docs/ros.md``).
 
-    Raises :class:`mentor_core.errors.MentorError` (one line) for a corrupt or missing genome
+    Raises :class:`mentor_core.MentorError` (one line) for a corrupt or missing genome
     file, an unknown profile, a genome that does not fit the profile, or bad parameters.
     """
 

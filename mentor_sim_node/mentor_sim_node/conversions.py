@@ -8,7 +8,7 @@ LaserScan cannot say so. ``ranges[i]`` is sensor ``i`` of the robot profile (its
 ``angle_min``/``angle_max`` are the first/last mount angle, ``angle_increment`` is the common
 step when the mount angles are evenly spaced and increasing, else 0 (irregular); ``range_min``
 is 0, ``range_max`` the sensor range, and out-of-range readings are +inf (REP-117). The
-numbers come from :func:`mentor_core.bagio.scan_geometry`, so recorded bags agree.
+numbers come from :func:`mentor_core.scan_geometry`, so recorded bags agree.
 """
 
 from __future__ import annotations
@@ -27,14 +27,14 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import ColorRGBA, Header, String
 from visualization_msgs.msg import Marker, MarkerArray
 
-from mentor_core import observation
-from mentor_core.bagio import (
+from mentor_core import (
     ARENA_LINE_WIDTH,
+    BAG_VERSION,
     EVENT_FORMAT,
     EVENT_KINDS,
     MAP_FRAME,
     ODOM_FRAME,
-    VERSION,
+    action_from_twist,
     arena_outline,
     box_markers,
     scan_geometry,
@@ -42,8 +42,7 @@ from mentor_core.bagio import (
 )
 
 if TYPE_CHECKING:
-    from mentor_core.robots import RobotProfile
-    from mentor_core.world import World
+    from mentor_core import RobotProfile, World
 
 _NS_PER_S = 1_000_000_000
 
@@ -130,7 +129,7 @@ def twist_to_action(msg: Twist, dt: float) -> tuple[float, float]:
     wz, vx = float(msg.angular.z), float(msg.linear.x)
     if not (math.isfinite(wz) and math.isfinite(vx)):
         raise ValueError(f"non-finite velocity command (linear.x={vx}, angular.z={wz})")
-    dtheta, ds = observation.action_from_twist(wz, vx, dt)
+    dtheta, ds = action_from_twist(wz, vx, dt)
     return float(dtheta), float(ds)
 
 
@@ -144,7 +143,7 @@ def event_string(
         raise ValueError(f"unknown event {kind!r}")
     body: dict[str, object] = {
         "format": EVENT_FORMAT,
-        "version": VERSION,
+        "version": BAG_VERSION,
         "event": kind,
         "scenario": int(scenario),
         "stamp_ns": int(stamp_ns),

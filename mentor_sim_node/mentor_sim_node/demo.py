@@ -64,8 +64,8 @@ def run_graph(
     ``episodes`` (or ``timeout_s`` wall s, 0: no limit, or Ctrl-C).
 
     ``planners`` holds ``(namespace, parameters)`` per robot; every planner runs on sim
-    time. Returns the simulator's :attr:`SimNode.outcomes` (:class:`Outcome` each). Raises
-    the nodes' setup errors.
+    time. Returns the simulator's :attr:`SimNode.outcomes` (:class:`mentor_core.Outcome`
+    each). Raises the nodes' setup errors.
     """
     import rclpy
     from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> None:
         planners.append((f"/{name}", {"genome": genome, "profile": profile}))
     from rclpy.exceptions import ParameterException
 
-    from mentor_core.errors import MentorError
+    from mentor_core import MentorError
 
     try:
         outcomes = run_graph(sim, planners, opts.timeout, args=["demo", *all_args])

@@ -1,6 +1,306 @@
 """MENTOR: multi-criteria evolution of neural-network topologies for robot path planning.
 
-A pure-Python library (no ROS import). One module per concept; see docs/architecture.md.
+A pure-Python library (never imports rclpy or ROS messages), in wings named after the paper's
+and the robot stack's parts; ``docs/architecture.md`` gives the rules, lowest layer first:
+
+* ``errors``, ``atomic`` -- the foundation every wing may use;
+* ``evolution`` -- NEAT genomes and operators, NSGA-II ranking, MENTOR's selection, the loop
+  (knows nothing of robots) | ``sim`` -- robots, worlds, sensors, collisions, the batched
+  engine, network inputs and actions (knows nothing of evolution);
+* ``objectives`` -- the paper's criteria F, G and complexity | ``files`` -- genome files,
+  checkpoints, rosbag2 bags;
+* ``training`` -- problem, trainers, evaluation backends, assessment | ``runtime`` -- what the
+  ROS nodes run: reference simulator, scenario plans, the planner, recording;
+* ``report`` -- figures, tables and the Markdown report;
+* ``cli`` -- the ``mentor-*`` commands.
+
+The names below are the public API: the node packages and users import them from
+``mentor_core`` itself (``from mentor_core import GenomePlanner``); each is loaded on first
+use, so importing one wing does not import the others.
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 __version__ = "0.1.0"
+
+# public name -> module that defines it
+_EXPORTS: dict[str, str] = {
+    # foundation
+    "MentorError": "mentor_core.errors",
+    "ConfigError": "mentor_core.errors",
+    "FileFormatError": "mentor_core.errors",
+    # evolution
+    "Genome": "mentor_core.evolution.genome",
+    "InnovationTracker": "mentor_core.evolution.innovation",
+    "FeedForwardNetwork": "mentor_core.evolution.network",
+    "EvolutionConfig": "mentor_core.evolution.config",
+    "Evolution": "mentor_core.evolution.loop",
+    "non_dominated_ranks": "mentor_core.evolution.ranking",
+    "crowding_distance": "mentor_core.evolution.ranking",
+    "scalar_fitness": "mentor_core.evolution.ranking",
+    # sim
+    "RobotProfile": "mentor_core.sim.robots",
+    "get_profile": "mentor_core.sim.robots",
+    "load_profiles": "mentor_core.sim.robots",
+    "World": "mentor_core.sim.world",
+    "Scenario": "mentor_core.sim.world",
+    "load_world": "mentor_core.sim.world",
+    "save_world": "mentor_core.sim.world",
+    "network_inputs": "mentor_core.sim.observation",
+    "twist_from_action": "mentor_core.sim.observation",
+    "action_from_twist": "mentor_core.sim.observation",
+    "MAP_FRAME": "mentor_core.sim.frames",
+    "ODOM_FRAME": "mentor_core.sim.frames",
+    "yaw_to_quaternion": "mentor_core.sim.frames",
+    "quaternion_to_yaw": "mentor_core.sim.frames",
+    # objectives
+    "performance": "mentor_core.objectives.performance",
+    "experience_gain": "mentor_core.objectives.experience",
+    "flops_ratio": "mentor_core.objectives.complexity",
+    # files
+    "save_genome": "mentor_core.files.genome_file",
+    "load_genome": "mentor_core.files.genome_file",
+    "load_genome_and_metadata": "mentor_core.files.genome_file",
+    "EventKind": "mentor_core.files.bags",
+    "EVENT_FORMAT": "mentor_core.files.bags",
+    "EVENT_KINDS": "mentor_core.files.bags",
+    "read_scenario_bag": "mentor_core.files.bags",
+    "write_scenario_bag": "mentor_core.files.bags",
+    "read_episode_bag": "mentor_core.files.bags",
+    "write_episode_bag": "mentor_core.files.bags",
+    "BAG_VERSION": "mentor_core.files.bags",  # of the bag and event formats
+    "scan_geometry": "mentor_core.files.bags",
+    "box_markers": "mentor_core.files.bags",
+    "arena_outline": "mentor_core.files.bags",
+    "ARENA_LINE_WIDTH": "mentor_core.files.bags",
+    # training
+    "TrainerConfig": "mentor_core.training.config",
+    "load_config_file": "mentor_core.training.config",
+    "train": "mentor_core.training.trainer",
+    "NavigationProblem": "mentor_core.training.problem",
+    "assess": "mentor_core.training.assessment",
+    # runtime
+    "GenomePlanner": "mentor_core.runtime.planner",
+    "DecisionGate": "mentor_core.runtime.planner",
+    "ReferenceSimulator": "mentor_core.runtime.simulator",
+    "Event": "mentor_core.runtime.simulator",
+    "ScenarioPlan": "mentor_core.runtime.scenario_plan",
+    "load_scenario_source": "mentor_core.runtime.scenario_plan",
+    "CommandBarrier": "mentor_core.runtime.lockstep",
+    "LatestCommands": "mentor_core.runtime.lockstep",
+    "EpisodeRecorder": "mentor_core.runtime.recording",
+    "SimSession": "mentor_core.runtime.sim_session",
+    "SessionConfig": "mentor_core.runtime.sim_session",
+    "SessionPort": "mentor_core.runtime.sim_session",
+    "Outcome": "mentor_core.runtime.sim_session",
+    # report
+    "write_report": "mentor_core.report.markdown",
+}
+
+__all__ = ["__version__", *_EXPORTS]
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name's module on first use (PEP 562)."""
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'mentor_core' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later lookups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
+
+
+if TYPE_CHECKING:  # the same names, for type checkers
+    from mentor_core.errors import (
+        ConfigError as ConfigError,
+    )
+    from mentor_core.errors import (
+        FileFormatError as FileFormatError,
+    )
+    from mentor_core.errors import (
+        MentorError as MentorError,
+    )
+    from mentor_core.evolution.config import (
+        EvolutionConfig as EvolutionConfig,
+    )
+    from mentor_core.evolution.genome import (
+        Genome as Genome,
+    )
+    from mentor_core.evolution.innovation import (
+        InnovationTracker as InnovationTracker,
+    )
+    from mentor_core.evolution.loop import (
+        Evolution as Evolution,
+    )
+    from mentor_core.evolution.network import (
+        FeedForwardNetwork as FeedForwardNetwork,
+    )
+    from mentor_core.evolution.ranking import (
+        crowding_distance as crowding_distance,
+    )
+    from mentor_core.evolution.ranking import (
+        non_dominated_ranks as non_dominated_ranks,
+    )
+    from mentor_core.evolution.ranking import (
+        scalar_fitness as scalar_fitness,
+    )
+    from mentor_core.files.bags import (
+        ARENA_LINE_WIDTH as ARENA_LINE_WIDTH,
+    )
+    from mentor_core.files.bags import (
+        BAG_VERSION as BAG_VERSION,
+    )
+    from mentor_core.files.bags import (
+        EVENT_FORMAT as EVENT_FORMAT,
+    )
+    from mentor_core.files.bags import (
+        EVENT_KINDS as EVENT_KINDS,
+    )
+    from mentor_core.files.bags import (
+        EventKind as EventKind,
+    )
+    from mentor_core.files.bags import (
+        arena_outline as arena_outline,
+    )
+    from mentor_core.files.bags import (
+        box_markers as box_markers,
+    )
+    from mentor_core.files.bags import (
+        read_episode_bag as read_episode_bag,
+    )
+    from mentor_core.files.bags import (
+        read_scenario_bag as read_scenario_bag,
+    )
+    from mentor_core.files.bags import (
+        scan_geometry as scan_geometry,
+    )
+    from mentor_core.files.bags import (
+        write_episode_bag as write_episode_bag,
+    )
+    from mentor_core.files.bags import (
+        write_scenario_bag as write_scenario_bag,
+    )
+    from mentor_core.files.genome_file import (
+        load_genome as load_genome,
+    )
+    from mentor_core.files.genome_file import (
+        load_genome_and_metadata as load_genome_and_metadata,
+    )
+    from mentor_core.files.genome_file import (
+        save_genome as save_genome,
+    )
+    from mentor_core.objectives.complexity import (
+        flops_ratio as flops_ratio,
+    )
+    from mentor_core.objectives.experience import (
+        experience_gain as experience_gain,
+    )
+    from mentor_core.objectives.performance import (
+        performance as performance,
+    )
+    from mentor_core.report.markdown import (
+        write_report as write_report,
+    )
+    from mentor_core.runtime.lockstep import (
+        CommandBarrier as CommandBarrier,
+    )
+    from mentor_core.runtime.lockstep import (
+        LatestCommands as LatestCommands,
+    )
+    from mentor_core.runtime.planner import (
+        DecisionGate as DecisionGate,
+    )
+    from mentor_core.runtime.planner import (
+        GenomePlanner as GenomePlanner,
+    )
+    from mentor_core.runtime.recording import (
+        EpisodeRecorder as EpisodeRecorder,
+    )
+    from mentor_core.runtime.scenario_plan import (
+        ScenarioPlan as ScenarioPlan,
+    )
+    from mentor_core.runtime.scenario_plan import (
+        load_scenario_source as load_scenario_source,
+    )
+    from mentor_core.runtime.sim_session import (
+        Outcome as Outcome,
+    )
+    from mentor_core.runtime.sim_session import (
+        SessionConfig as SessionConfig,
+    )
+    from mentor_core.runtime.sim_session import (
+        SessionPort as SessionPort,
+    )
+    from mentor_core.runtime.sim_session import (
+        SimSession as SimSession,
+    )
+    from mentor_core.runtime.simulator import (
+        Event as Event,
+    )
+    from mentor_core.runtime.simulator import (
+        ReferenceSimulator as ReferenceSimulator,
+    )
+    from mentor_core.sim.frames import (
+        MAP_FRAME as MAP_FRAME,
+    )
+    from mentor_core.sim.frames import (
+        ODOM_FRAME as ODOM_FRAME,
+    )
+    from mentor_core.sim.frames import (
+        quaternion_to_yaw as quaternion_to_yaw,
+    )
+    from mentor_core.sim.frames import (
+        yaw_to_quaternion as yaw_to_quaternion,
+    )
+    from mentor_core.sim.observation import (
+        action_from_twist as action_from_twist,
+    )
+    from mentor_core.sim.observation import (
+        network_inputs as network_inputs,
+    )
+    from mentor_core.sim.observation import (
+        twist_from_action as twist_from_action,
+    )
+    from mentor_core.sim.robots import (
+        RobotProfile as RobotProfile,
+    )
+    from mentor_core.sim.robots import (
+        get_profile as get_profile,
+    )
+    from mentor_core.sim.robots import (
+        load_profiles as load_profiles,
+    )
+    from mentor_core.sim.world import (
+        Scenario as Scenario,
+    )
+    from mentor_core.sim.world import (
+        World as World,
+    )
+    from mentor_core.sim.world import (
+        load_world as load_world,
+    )
+    from mentor_core.sim.world import (
+        save_world as save_world,
+    )
+    from mentor_core.training.assessment import (
+        assess as assess,
+    )
+    from mentor_core.training.config import (
+        TrainerConfig as TrainerConfig,
+    )
+    from mentor_core.training.config import (
+        load_config_file as load_config_file,
+    )
+    from mentor_core.training.problem import (
+        NavigationProblem as NavigationProblem,
+    )
+    from mentor_core.training.trainer import (
+        train as train,
+    )

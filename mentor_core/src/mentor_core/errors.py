@@ -44,3 +44,9 @@ def is_number(value: object) -> TypeGuard[int | float]:
     """Whether a config or metadata value is an int or a float, not a bool (YAML and JSON
     ``true`` is an int in Python, but is not a number of metres or degrees)."""
     return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def one_line(err: BaseException) -> str:
+    """``str(err)`` on one line (every run of whitespace, newlines included, one space), for a
+    fault quoted inside a one-line error message."""
+    return " ".join(str(err).split())

@@ -9,7 +9,7 @@ Examples::
 The world comes from a world file (``--world``) or is the training DoE of ``--seed`` (the
 paper's, or with ``--walls MIN MAX`` long walls as the shipped training configs'
 ``doe: {wall_count: [1, 2]}``). Rays
-are read with the reference physics (:class:`mentor_core.pymunk_world.PymunkWorld`).
+are read with the reference physics (:class:`mentor_core.sim.pymunk_world.PymunkWorld`).
 ``--demo`` adds a naive straight-to-goal run (turn to the goal, step as far as allowed, stop
 at the goal radius, on a collision or when the time budget is spent). Bad input gives a
 one-line error naming the fault and exit code 2; the PNG is written atomically.
@@ -25,14 +25,14 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from mentor_core.collision import sample_counts
 from mentor_core.errors import MentorError
-from mentor_core.kinematics import arc_samples, unicycle_arc, wrap_angle
-from mentor_core.plots import draw_world, new_figure, save_png
-from mentor_core.pymunk_world import PymunkWorld
-from mentor_core.robots import load_profiles
-from mentor_core.scenarios import DoEConfig, training_scenarios
-from mentor_core.world import Scenario, load_world
+from mentor_core.report.plots import draw_world, new_figure, save_png
+from mentor_core.sim.collision import sample_counts
+from mentor_core.sim.kinematics import arc_samples, unicycle_arc, wrap_angle
+from mentor_core.sim.pymunk_world import PymunkWorld
+from mentor_core.sim.robots import load_profiles
+from mentor_core.sim.scenarios import DoEConfig, training_scenarios
+from mentor_core.sim.world import Scenario, load_world
 
 PROG = "mentor-draw"
 

@@ -21,16 +21,16 @@ from typing import Any
 
 import numpy as np
 
-from mentor_core.assessment import TEST_TIME_LIMIT, Assessment, assess
 from mentor_core.atomic import write_json_atomic
-from mentor_core.bagio import read_scenario_bag
 from mentor_core.errors import FileFormatError, MentorError
-from mentor_core.genome_io import load_genome_and_metadata
-from mentor_core.planning import GenomePlanner, planner_profile
-from mentor_core.recording import record_planners
-from mentor_core.robots import RobotProfile, get_profile
-from mentor_core.scenarios import sample_scenarios, sample_world
-from mentor_core.world import Scenario, World, load_world
+from mentor_core.files.bags import read_scenario_bag
+from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.runtime.planner import GenomePlanner, planner_profile
+from mentor_core.runtime.recording import record_planners
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.scenarios import sample_scenarios, sample_world
+from mentor_core.sim.world import Scenario, World, load_world
+from mentor_core.training.assessment import TEST_TIME_LIMIT, Assessment, assess
 
 EVAL_FORMAT = "mentor-eval"
 EVAL_VERSION = 1

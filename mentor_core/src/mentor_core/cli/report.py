@@ -16,7 +16,7 @@ from pathlib import Path
 import matplotlib
 
 from mentor_core.errors import MentorError
-from mentor_core.report import write_report
+from mentor_core.report.markdown import write_report
 
 
 def build_parser() -> argparse.ArgumentParser:

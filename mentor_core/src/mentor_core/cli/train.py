@@ -19,14 +19,10 @@ from pathlib import Path
 from typing import TextIO
 
 from mentor_core.errors import MentorError
-from mentor_core.evaluators import make_evaluator
-from mentor_core.trainer import (
-    GenerationRecord,
-    TrainerConfig,
-    load_config_file,
-    make_problem,
-    train,
-)
+from mentor_core.training.config import TrainerConfig, load_config_file
+from mentor_core.training.evaluators import make_evaluator
+from mentor_core.training.run_files import GenerationRecord
+from mentor_core.training.trainer import make_problem, train
 
 SHIPPED = ("quick", "paper")
 

@@ -29,11 +29,11 @@ from typing import Any
 
 import numpy as np
 
-from mentor_core.config import EvolutionConfig
 from mentor_core.errors import MentorError
-from mentor_core.evolution import Evolution
-from mentor_core.genome import Genome
-from mentor_core.network import FeedForwardNetwork
+from mentor_core.evolution.config import EvolutionConfig
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.loop import Evolution
+from mentor_core.evolution.network import FeedForwardNetwork
 
 XOR_INPUTS = np.array([[0.0, 0.0], [0.0, 1.0], [1.0, 0.0], [1.0, 1.0]])
 XOR_TARGETS = np.array([0.0, 1.0, 1.0, 0.0])

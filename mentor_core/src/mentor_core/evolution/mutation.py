@@ -1,0 +1,194 @@
+"""MENTOR mutation: per-edge weight and add-node mutations, per-node-pair add-edge mutation.
+
+Paper, section II "Crossover and Mutation": a fixed probability of mutating *each edge* (and
+each node pair) makes the expected amount of variation proportional to the network's size.
+One call applies, in this order:
+
+1. weight mutation: every connection gene (enabled or not) with probability ``weight_rate``;
+   of those, a fraction ``weight_replace_rate`` draws a fresh weight from
+   N(0, ``weight_init_sigma``), the rest add N(0, ``weight_perturb_sigma``); the result is
+   clamped to ``[-weight_max, weight_max]``;
+2. add node: every enabled connection of the parent with probability ``node_rate`` is split:
+   it is disabled, ``in -> new`` gets weight 1.0 and ``new -> out`` the old weight, so the
+   network computes nearly the same function; the new node has the genome's
+   ``hidden_activation``;
+3. add edge: every non-input node ``b`` (hidden or output, in id order) draws, with
+   probability ``edge_rate``, one new incoming edge ``a -> b`` from a source picked uniformly
+   among the candidates: ``a != b``, no gene ``a -> b`` yet (enabled or not) and no path
+   ``b -> a`` (no cycle, counting the edges added before it), weight N(0, ``weight_init_sigma``).
+
+The paper applies add-edge "to different pairs of nodes" with Table I's rate (0.03 UGV, 0.5
+Swarm-Robot). Read as one coin per node pair, the number of new edges grows with the square of
+the node count and the Swarm-Robot's 0.5 explodes (mutation alone, no selection: 24 -> 201 ->
+2,071 -> 14,146 connections in four generations). One trial per node keeps the paper's stated
+aim, variation proportional to the network's size, for all three operators.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from mentor_core.errors import ConfigError
+from mentor_core.evolution.genome import (
+    ConnectionGene,
+    Genome,
+    NodeGene,
+    adjacency,
+    minimal_genome,
+    topological_order,
+)
+from mentor_core.evolution.innovation import InnovationTracker
+
+_RATE_FIELDS = ("weight_rate", "weight_replace_rate", "node_rate", "edge_rate")
+_POSITIVE_FIELDS = ("weight_perturb_sigma", "weight_init_sigma", "weight_max")
+
+
+@dataclass(frozen=True)
+class MutationConfig:
+    """Mutation probabilities and weight parameters (defaults: the paper's UGV case).
+
+    ``max_hidden`` (None: no limit) stops add-node once a genome has that many hidden nodes.
+    The paper's per-edge add-node rate makes the expected growth proportional to the size, so
+    sizes grow geometrically along a lineage when nothing selects against them (stage 2 and
+    XOR have no complexity pressure): an evaluation cost that doubles every few generations.
+    """
+
+    weight_rate: float = 0.25
+    weight_perturb_sigma: float = 0.5
+    weight_replace_rate: float = 0.1
+    weight_init_sigma: float = 1.0
+    weight_max: float = 8.0
+    node_rate: float = 0.05
+    edge_rate: float = 0.03
+    max_hidden: int | None = None
+
+    def __post_init__(self) -> None:
+        cap = self.max_hidden
+        if cap is not None and (isinstance(cap, bool) or not isinstance(cap, int) or cap < 0):
+            raise ConfigError(f"must be None or an int >= 0, got {cap!r}", key="max_hidden")
+        for f in fields(self):
+            if f.name == "max_hidden":
+                continue
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ConfigError(f"must be a number, got {value!r}", key=f.name)
+        for name in _RATE_FIELDS:
+            value = getattr(self, name)
+            if not 0.0 <= value <= 1.0:
+                raise ConfigError(f"must be in [0, 1], got {value!r}", key=name)
+        for name in _POSITIVE_FIELDS:
+            value = getattr(self, name)
+            if not (value > 0.0 and np.isfinite(value)):
+                raise ConfigError(f"must be finite and > 0, got {value!r}", key=name)
+
+
+def mutate(
+    genome: Genome, cfg: MutationConfig, tracker: InnovationTracker, rng: np.random.Generator
+) -> Genome:
+    """A mutated copy of ``genome`` (weights, then add-node, then add-edge; see module doc)."""
+    connections = mutate_weights(genome.connections, cfg, rng)
+    connections, nodes = _add_nodes(genome, connections, cfg, tracker, rng)
+    connections = _add_edges(connections, nodes, cfg, tracker, rng)
+    return genome.with_connections(connections, nodes)
+
+
+def mutated_genomes(
+    n: int, n_inputs: int, cfg: MutationConfig, rounds: int, rng: np.random.Generator
+) -> list[Genome]:
+    """``n`` minimal genomes (2 outputs), each put through ``rounds`` of :func:`mutate` with one
+    tracker: random networks with hidden nodes and extra edges, for benchmarks and tests."""
+    tracker = InnovationTracker(next_node_id=n_inputs + 3)  # inputs, bias, 2 outputs
+    genomes = []
+    for _ in range(n):
+        g = minimal_genome(n_inputs, 2, tracker, rng)
+        for _ in range(rounds):
+            g = mutate(g, cfg, tracker, rng)
+        genomes.append(g)
+    return genomes
+
+
+def mutate_weights(
+    connections: tuple[ConnectionGene, ...], cfg: MutationConfig, rng: np.random.Generator
+) -> list[ConnectionGene]:
+    """Per-edge weight mutation: perturb (or, rarely, replace) each weight w.p. ``weight_rate``."""
+    n = len(connections)
+    hit = rng.random(n) < cfg.weight_rate
+    replace = rng.random(n) < cfg.weight_replace_rate
+    fresh = rng.normal(0.0, cfg.weight_init_sigma, size=n)
+    noise = rng.normal(0.0, cfg.weight_perturb_sigma, size=n)
+    old = np.array([c.weight for c in connections], dtype=np.float64)
+    new = np.clip(np.where(replace, fresh, old + noise), -cfg.weight_max, cfg.weight_max)
+    return [
+        ConnectionGene(c.innovation, c.in_node, c.out_node, float(w), c.enabled) if h else c
+        for c, h, w in zip(connections, hit, new, strict=True)
+    ]
+
+
+def _add_nodes(
+    genome: Genome,
+    connections: list[ConnectionGene],
+    cfg: MutationConfig,
+    tracker: InnovationTracker,
+    rng: np.random.Generator,
+) -> tuple[list[ConnectionGene], list[NodeGene]]:
+    """Split each enabled edge with probability ``node_rate`` (up to ``max_hidden`` nodes)."""
+    split = rng.random(len(connections)) < cfg.node_rate
+    nodes = list(genome.nodes)
+    taken = {n.id for n in nodes}
+    cap = cfg.max_hidden
+    room = len(connections) if cap is None else cap - len(genome.hidden_nodes)
+    out: list[ConnectionGene] = []
+    for c, do_split in zip(connections, split, strict=True):
+        if not (do_split and c.enabled) or room <= 0:
+            out.append(c)
+            continue
+        room -= 1
+        node = tracker.split(c.innovation, taken)
+        taken.add(node)
+        nodes.append(NodeGene(node, "hidden", genome.hidden_activation))
+        out.append(ConnectionGene(c.innovation, c.in_node, c.out_node, c.weight, False))
+        out.append(ConnectionGene(tracker.connection(c.in_node, node), c.in_node, node, 1.0))
+        out.append(
+            ConnectionGene(tracker.connection(node, c.out_node), node, c.out_node, c.weight)
+        )
+    return out, nodes
+
+
+def _add_edges(
+    connections: list[ConnectionGene],
+    nodes: list[NodeGene],
+    cfg: MutationConfig,
+    tracker: InnovationTracker,
+    rng: np.random.Generator,
+) -> list[ConnectionGene]:
+    """Give each non-input node, with probability ``edge_rate``, one new acyclic in-edge."""
+    succ = adjacency(connections)
+    ids = sorted(n.id for n in nodes)
+    targets = [n.id for n in sorted(nodes, key=lambda n: n.id) if n.kind in ("output", "hidden")]
+    hits = [b for b, u in zip(targets, rng.random(len(targets)), strict=True) if u < cfg.edge_rate]
+    out = list(connections)
+    for b in hits:
+        below = descendants(ids, succ)[b]  # a -> b closes a cycle iff a is reachable from b
+        sources = [a for a in ids if a != b and b not in succ.get(a, ()) and a not in below]
+        if not sources:
+            continue
+        a = sources[int(rng.integers(len(sources)))]
+        w = float(np.clip(rng.normal(0.0, cfg.weight_init_sigma), -cfg.weight_max, cfg.weight_max))
+        succ.setdefault(a, set()).add(b)
+        out.append(ConnectionGene(tracker.connection(a, b), a, b, w))
+    return out
+
+
+def descendants(ids: list[int], succ: dict[int, set[int]]) -> dict[int, frozenset[int]]:
+    """For every node, the set of nodes reachable from it (itself excluded); acyclic ``succ``."""
+    order = topological_order(ids, ((a, b) for a, bs in succ.items() for b in bs))
+    below: dict[int, frozenset[int]] = {}
+    for node in reversed(order):
+        reach: set[int] = set()
+        for nxt in succ.get(node, ()):
+            reach.add(nxt)
+            reach |= below[nxt]
+        below[node] = frozenset(reach)
+    return below

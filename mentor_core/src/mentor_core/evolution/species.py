@@ -1,0 +1,161 @@
+"""Speciation: compatibility distance (paper eq. 1) and assignment to species.
+
+Each species is a niche kept by one representative genome. A genome joins the species whose
+representative lies nearest, if it lies within the distance threshold (``assignment:
+nearest``, as neat-python), or the first species by id within the threshold (``assignment:
+first``, as Stanley & Miikkulainen 2002); otherwise it founds a new one. First-match lets the
+oldest species absorb everything within reach: in paper-scale runs one species then held up
+to 98 % of the population in single generations, against the paper's "no niche above about
+a third".
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mentor_core.errors import ConfigError, is_number
+from mentor_core.evolution.genome import Genome
+
+ASSIGNMENTS = ("nearest", "first")
+
+
+@dataclass(frozen=True)
+class SpeciationConfig:
+    """Distance coefficients (paper: [c1, c2, c3] = [1, 1, 0.4]) and threshold control.
+
+    ``threshold`` is the starting compatibility threshold; with ``target_species`` set,
+    :func:`adjust_threshold` moves it by ``threshold_step`` per generation towards that many
+    species, never below ``threshold_min``. ``assignment`` picks the species a genome joins
+    (module docstring): ``"nearest"`` or ``"first"``.
+    """
+
+    c1: float = 1.0
+    c2: float = 1.0
+    c3: float = 0.4
+    threshold: float = 3.0
+    target_species: int | None = None
+    threshold_step: float = 0.3
+    threshold_min: float = 0.3
+    assignment: str = "nearest"
+
+    def __post_init__(self) -> None:
+        if self.assignment not in ASSIGNMENTS:
+            raise ConfigError(
+                f"must be one of {', '.join(ASSIGNMENTS)}, got {self.assignment!r}",
+                key="assignment",
+            )
+        for f in fields(self):
+            if f.name == "assignment":
+                continue
+            value = getattr(self, f.name)
+            if f.name == "target_species":
+                if value is not None and (
+                    isinstance(value, bool) or not isinstance(value, int) or value < 1
+                ):
+                    raise ConfigError(f"must be None or an int >= 1, got {value!r}", key=f.name)
+                continue
+            if not is_number(value):
+                raise ConfigError(f"must be a number, got {value!r}", key=f.name)
+            if not (np.isfinite(value) and value >= 0.0):
+                raise ConfigError(f"must be finite and >= 0, got {value!r}", key=f.name)
+        for name in ("threshold", "threshold_min"):
+            if getattr(self, name) <= 0.0:
+                raise ConfigError(f"must be > 0, got {getattr(self, name)!r}", key=name)
+        if self.threshold < self.threshold_min:
+            raise ConfigError(
+                f"{self.threshold} is below threshold_min {self.threshold_min}", key="threshold"
+            )
+
+
+def distance(a: Genome, b: Genome, c1: float = 1.0, c2: float = 1.0, c3: float = 0.4) -> float:
+    """Compatibility distance, paper eq. 1 (the paper's second ``c1`` is a typo for ``c2``).
+
+    ``D = c1 E / N + c2 J / N + c3 W``: ``E`` excess genes (innovation beyond the other
+    genome's largest), ``J`` disjoint genes (the other unmatched genes), ``N`` the gene count of
+    the larger genome (at least 1), ``W`` the mean absolute weight difference of matching genes
+    (0 if none). Disabled genes count like enabled ones.
+    """
+    inn_a = np.fromiter((c.innovation for c in a.connections), dtype=np.int64)
+    inn_b = np.fromiter((c.innovation for c in b.connections), dtype=np.int64)
+    w_a = np.fromiter((c.weight for c in a.connections), dtype=np.float64)
+    w_b = np.fromiter((c.weight for c in b.connections), dtype=np.float64)
+    _, ia, ib = np.intersect1d(inn_a, inn_b, assume_unique=True, return_indices=True)
+    max_a = int(inn_a.max()) if inn_a.size else -1
+    max_b = int(inn_b.max()) if inn_b.size else -1
+    lone_a = np.setdiff1d(inn_a, inn_b, assume_unique=True)
+    lone_b = np.setdiff1d(inn_b, inn_a, assume_unique=True)
+    excess = int(np.count_nonzero(lone_a > max_b) + np.count_nonzero(lone_b > max_a))
+    disjoint = lone_a.size + lone_b.size - excess
+    n = max(inn_a.size, inn_b.size, 1)
+    w_bar = float(np.mean(np.abs(w_a[ia] - w_b[ib]))) if ia.size else 0.0
+    return c1 * excess / n + c2 * disjoint / n + c3 * w_bar
+
+
+def speciate(
+    genomes: Sequence[Genome],
+    representatives: Mapping[int, Genome],
+    threshold: float,
+    cfg: SpeciationConfig,
+    next_id: int,
+) -> tuple[NDArray[np.int64], dict[int, Genome], int]:
+    """Assign each genome (in order) a species id.
+
+    A genome joins the species whose representative is nearest (``cfg.assignment ==
+    "nearest"``; lowest id on ties) or the first by ascending id (``"first"``), provided the
+    distance is ``< threshold``; otherwise it founds species ``next_id`` as its representative
+    (later genomes may join it). The new
+    representative of each species with members is the member closest to its old
+    representative (first such member on ties). Species without members are dropped.
+    Returns ``(labels, representatives, next_id)``.
+    """
+    if not (np.isfinite(threshold) and threshold > 0.0):
+        raise ConfigError(f"must be finite and > 0, got {threshold!r}", key="threshold")
+    if representatives and next_id <= max(representatives):
+        raise ConfigError(
+            f"{next_id} is not above the existing species ids {sorted(representatives)}",
+            key="next_id",
+        )
+    reps = dict(sorted(representatives.items()))
+    labels = np.empty(len(genomes), dtype=np.int64)
+    best: dict[int, tuple[float, int]] = {}  # species -> (distance to old rep, genome index)
+    for k, genome in enumerate(genomes):
+        species_id, gap = _closest(genome, reps, threshold, cfg)
+        if species_id < 0:
+            species_id, gap = next_id, 0.0
+            reps[species_id] = genome
+            next_id += 1
+        labels[k] = species_id
+        if species_id not in best or gap < best[species_id][0]:
+            best[species_id] = (gap, k)
+    new_reps = {sid: genomes[best[sid][1]] for sid in sorted(best)}
+    return labels, new_reps, next_id
+
+
+def _closest(
+    genome: Genome, reps: Mapping[int, Genome], threshold: float, cfg: SpeciationConfig
+) -> tuple[int, float]:
+    """(species id, distance) the genome joins under ``cfg.assignment``; (-1, 0) for none."""
+    found, found_gap = -1, 0.0
+    for sid, rep in reps.items():  # ascending id
+        gap = distance(genome, rep, cfg.c1, cfg.c2, cfg.c3)
+        if gap < threshold and (found < 0 or gap < found_gap):
+            found, found_gap = sid, gap
+            if cfg.assignment == "first":
+                break
+    return found, found_gap
+
+
+def adjust_threshold(threshold: float, n_species: int, cfg: SpeciationConfig) -> float:
+    """Threshold for the next generation: raised when there are more species than
+    ``cfg.target_species`` (coarser niches), lowered (to at least ``threshold_min``) when there
+    are fewer, unchanged when on target or when no target is set.
+    """
+    if cfg.target_species is None or n_species == cfg.target_species:
+        return threshold
+    if n_species > cfg.target_species:
+        return threshold + cfg.threshold_step
+    return max(cfg.threshold_min, threshold - cfg.threshold_step)

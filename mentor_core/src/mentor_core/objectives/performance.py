@@ -1,0 +1,62 @@
+"""Performance objective of the paper (section "Criteria Functions", eqs. 2 and 3).
+
+Per scenario i (eq. 3)::
+
+    F_i = delta_i (1 + T_rem,i / T_tot,i) + (1 - delta_i) / (1 + S_f,i)
+
+with delta_i = 1 when the robot reached its goal, T_rem,i the time left on arrival, T_tot,i
+the scenario's time budget and S_f,i the final distance to the goal (m). A success scores in
+``[1, 2]``, a failure in ``(0, 1]``, so any success beats any failure that ends away from the
+goal. Per genome (eq. 2): ``F = sum_i F_i`` over its scenarios.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from mentor_core.sim.episode import EpisodeBatch
+
+FloatArray = NDArray[np.float64]
+
+
+def scenario_performance(
+    reached: ArrayLike, time_remaining: ArrayLike, time_budget: ArrayLike,
+    final_distance: ArrayLike,
+) -> FloatArray:
+    """F_i of paper eq. 3 for each scenario ``(n,)``.
+
+    Args:
+        reached: delta_i, bool ``(n,)``.
+        time_remaining: T_rem,i (s); clipped to ``[0, T_tot,i]`` (ignored for failures).
+        time_budget: T_tot,i (s, >= 0); a zero budget counts as no time left.
+        final_distance: S_f,i (m, >= 0).
+    """
+    delta = np.asarray(reached, dtype=np.bool_)
+    t_tot = np.asarray(time_budget, dtype=np.float64)
+    t_rem = np.clip(np.asarray(time_remaining, dtype=np.float64), 0.0, t_tot)
+    s_f = np.asarray(final_distance, dtype=np.float64)
+    if (t_tot < 0.0).any() or (s_f < 0.0).any() or np.isnan(s_f).any():
+        raise ValueError("time budgets and final distances must be non-negative")
+    share = np.divide(t_rem, t_tot, out=np.zeros_like(t_rem), where=t_tot > 0.0)
+    score: FloatArray = np.where(delta, 1.0 + share, 1.0 / (1.0 + s_f))
+    return score
+
+
+def performance(batch: EpisodeBatch, n_genomes: int) -> FloatArray:
+    """F of paper eq. 2 per genome ``(n_genomes,)``.
+
+    The batch holds ``n_genomes * n_scenarios`` episodes, genome-major: robot
+    ``g * n_scenarios + s`` is genome ``g`` on scenario ``s``.
+    """
+    n = batch.reached.shape[0]
+    if n_genomes <= 0 or n % n_genomes:
+        raise ValueError(f"{n} episodes do not split evenly over {n_genomes} genomes")
+    per_scenario = scenario_performance(
+        batch.reached, batch.time_remaining, batch.time_budget, batch.final_distance
+    )
+    total: FloatArray = per_scenario.reshape(n_genomes, -1).sum(axis=1)
+    return total

@@ -1,0 +1,260 @@
+"""The planner: an evolved genome deciding for one robot, and when to decide.
+
+:class:`GenomePlanner` is the trainer's decision pipeline for a single robot, built from the
+same functions the trainer uses (:func:`mentor_core.sim.observation.network_inputs`,
+:class:`mentor_core.evolution.network.FeedForwardNetwork`,
+:func:`mentor_core.sim.observation.actions_from_outputs`,
+:func:`mentor_core.sim.observation.twist_from_action`). The planner node calls nothing else.
+
+:class:`DecisionGate` is the planner node's bookkeeping, kept here so that it is tested
+without a ROS graph. The node feeds it every scan, odometry, goal and episode event with its
+stamp (ns, sim time) and asks it
+
+* :meth:`DecisionGate.take`: a new observation to answer, once per pair of latest scan and
+  latest odometry whose stamps lie within ``sync_tolerance`` of each other and whose stamp
+  differs from the last one answered (a repeated observation is answered only once; a clock
+  that jumps back, as when the simulator restarts, is followed);
+* :meth:`DecisionGate.watchdog`: once per control period, whether the planner has gone
+  ``stale_after`` without answering (missing or stale data); the node then sends a zero
+  Twist and a throttled warning.
+
+Episode events (optional; a planner fed by something other than the simulator never gets
+any): after an end event (reached, collided, timed out) the robot no longer drives, so the
+gate answers nothing and the watchdog stays quiet until the next ``started`` event, which may
+carry the new goal. The simulator publishes the next episode's ``started`` event before its
+first observation, and the planner node handles events before observations (its events
+subscription comes first), so an observation of a new episode is never answered with the
+previous episode's goal, whatever order the goal topic and the observations arrive in.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.errors import ConfigError
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.network import FeedForwardNetwork
+from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.sim import observation
+from mentor_core.sim.robots import (
+    ROBOTS_ENV,
+    RobotProfile,
+    get_profile,
+    sensor_record,
+    with_planner,
+)
+
+FloatArray = NDArray[np.float64]
+Pose = tuple[float, float, float]
+_NS_PER_S = 1_000_000_000
+_END_EVENTS = frozenset({"reached", "collided", "timed_out"})
+
+
+def planner_profile(
+    profile: RobotProfile, metadata: Mapping[str, Any], source: str | Path = ""
+) -> RobotProfile:
+    """``profile`` as the genome was trained to use it: its metadata's ``input_encoding``
+    (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
+    ``step_max`` and ``step_min`` (m; each the profile's when absent) and
+    ``clearance_margin`` (m; absent: none).
+
+    ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
+    (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
+    differs from the profile's: such a genome was trained with other sensors.
+    """
+    trained = metadata.get("sensors")
+    if trained is not None and trained != sensor_record(profile):
+        raise ConfigError(
+            f"the genome was trained with other sensors than robot {profile.name!r} has now "
+            f"(mounts, range or beam); use the robot file it was trained with (${ROBOTS_ENV} "
+            "names the file in use)",
+            key="sensors",
+            path=source or None,
+        )
+    return with_planner(
+        profile,
+        input_encoding=metadata.get("input_encoding", "paper"),
+        heading_change_max=metadata.get("heading_change_max"),
+        step_max=metadata.get("step_max"),
+        step_min=metadata.get("step_min"),
+        clearance_margin=metadata.get("clearance_margin"),
+        source=source,
+    )
+
+
+class GenomePlanner:
+    """One robot's decisions from an evolved genome, exactly as in training.
+
+    Raises ConfigError when the genome's inputs/outputs do not fit the profile.
+    """
+
+    def __init__(self, genome: Genome, profile: RobotProfile, source: str = "<genome>") -> None:
+        if genome.n_inputs != profile.n_inputs or genome.n_outputs != 2:
+            raise ConfigError(
+                f"genome has {genome.n_inputs} inputs and {genome.n_outputs} outputs, profile "
+                f"{profile.name!r} needs {profile.n_inputs} inputs and 2 outputs",
+                path=source,
+            )
+        self.genome = genome
+        self.profile = profile
+        self.network = FeedForwardNetwork.from_genome(genome)
+
+    @classmethod
+    def load(cls, genome_path: str | Path, profile_name: str) -> GenomePlanner:
+        """Planner of a genome JSON file for a named profile.
+
+        FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
+        that does not fit it); both one line naming the file or key and the fault.
+        """
+        genome, metadata = load_genome_and_metadata(genome_path)
+        profile = planner_profile(get_profile(profile_name), metadata, genome_path)
+        return cls(genome, profile, source=str(genome_path))
+
+    def decide(
+        self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike
+    ) -> tuple[float, float]:
+        """Decision ``(dtheta, ds)`` (rad, m) for readings (k,) (m, +inf out of range), pose
+        (x, y, theta) and goal (x, y) in ``map``. ValueError for NaN or malformed input."""
+        readings = np.asarray(ranges, dtype=np.float64).reshape(1, -1)
+        inputs = observation.network_inputs(
+            readings,
+            np.asarray(pose, dtype=np.float64).reshape(1, 3),
+            np.asarray(goal, dtype=np.float64).reshape(1, 2),
+            self.profile,
+        )
+        outputs = self.network.activate(inputs)
+        dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
+        return float(dtheta[0]), float(ds[0])
+
+    def command(
+        self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike, dt: float | None = None
+    ) -> tuple[float, float]:
+        """Twist of the decision, ``(linear_x, angular_z) = (ds / dt, dtheta / dt)`` (m/s,
+        rad/s); ``dt`` defaults to the profile's control period."""
+        dtheta, ds = self.decide(ranges, pose, goal)
+        period = self.profile.control_period if dt is None else dt
+        angular_z, linear_x = observation.twist_from_action(dtheta, ds, period)
+        return float(linear_x), float(angular_z)
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What the planner answers: stamp (ns) of the scan, readings, pose and goal (None when
+    no goal has been received)."""
+
+    stamp_ns: int
+    ranges: FloatArray
+    pose: Pose
+    goal: tuple[float, float] | None
+
+
+class DecisionGate:
+    """When the planner node decides, and when its data is stale (module docstring).
+
+    Message stamps (sim time of the scan and odometry) decide which observation is new;
+    node times (the node's clock when a message is handled, sim time under
+    ``use_sim_time``) drive the watchdog, so the two time bases never mix.
+
+    Args:
+        stale_after: s (node time) without an answered observation after which the
+            watchdog fires; larger than the control period.
+        sync_tolerance: s, largest stamp difference of a scan and the odometry used with it.
+    """
+
+    def __init__(self, stale_after: float, sync_tolerance: float) -> None:
+        if not (np.isfinite(stale_after) and stale_after > 0.0):
+            raise ValueError(f"stale_after must be positive, got {stale_after}")
+        if not (np.isfinite(sync_tolerance) and sync_tolerance >= 0.0):
+            raise ValueError(f"sync_tolerance must be >= 0, got {sync_tolerance}")
+        self.stale_after_ns = round(stale_after * _NS_PER_S)
+        self.sync_tolerance_ns = round(sync_tolerance * _NS_PER_S)
+        self._scan: tuple[int, FloatArray] | None = None
+        self._odom: tuple[int, Pose] | None = None
+        self._goal: tuple[float, float] | None = None
+        self._answered_stamp: int | None = None  # stamp of the last observation answered
+        self._answered_at: int | None = None  # node time of that answer
+        self._since: int | None = None  # node time the watchdog counts from before an answer
+        self._idle = False
+
+    @property
+    def idle(self) -> bool:
+        """The robot's episode has ended (no ``started`` event since)."""
+        return self._idle
+
+    def on_scan(self, stamp_ns: int, ranges: ArrayLike) -> None:
+        """The latest scan (readings checked by the caller), stamped ``stamp_ns``."""
+        self._scan = (int(stamp_ns), np.asarray(ranges, dtype=np.float64).copy())
+
+    def on_odometry(self, stamp_ns: int, pose: Pose) -> None:
+        """The latest odometry pose, stamped ``stamp_ns``."""
+        self._odom = (int(stamp_ns), (float(pose[0]), float(pose[1]), float(pose[2])))
+
+    def on_goal(self, goal: tuple[float, float]) -> None:
+        """A new goal (x, y) in ``map``."""
+        self._goal = (float(goal[0]), float(goal[1]))
+
+    def on_event(
+        self, kind: str, now_ns: int, goal: tuple[float, float] | None = None
+    ) -> None:
+        """An episode event of this robot, handled at node time ``now_ns``; a ``started``
+        event may carry the episode's goal (x, y)."""
+        if kind in _END_EVENTS:
+            self._idle = True
+        elif kind == "started":
+            self._idle = False
+            self._since = int(now_ns)
+            self._answered_at = None
+            if goal is not None:
+                self.on_goal(goal)
+
+    def take(self, now_ns: int) -> Observation | None:
+        """The next observation to answer at node time ``now_ns``, or None (nothing new, no
+        goal yet, scan and odometry not in step, or the episode has ended). Taking it marks
+        it answered."""
+        if self._idle or self._scan is None or self._odom is None or self._goal is None:
+            return None
+        scan_ns, ranges = self._scan
+        odom_ns, pose = self._odom
+        if abs(scan_ns - odom_ns) > self.sync_tolerance_ns:
+            return None
+        stamp = max(scan_ns, odom_ns)
+        if stamp == self._answered_stamp:
+            return None
+        self._answered_stamp = stamp
+        self._answered_at = int(now_ns)
+        return Observation(stamp, ranges.copy(), pose, self._goal)
+
+    def watchdog(self, now_ns: int) -> str | None:
+        """Why the planner should send a zero Twist at node time ``now_ns`` (one line), or None.
+
+        Quiet while idle. Otherwise it fires when the last answer (or, before any, the first
+        watchdog call or the last ``started`` event) lies more than ``stale_after`` back.
+        """
+        if self._since is None:
+            self._since = int(now_ns)
+        if self._idle:
+            return None
+        ref = self._answered_at if self._answered_at is not None else self._since
+        age = now_ns - ref
+        if age <= self.stale_after_ns:
+            return None
+        missing = [
+            what
+            for what, value in (
+                ("scan", self._scan), ("odometry", self._odom), ("goal", self._goal)
+            )
+            if value is None
+        ]
+        if missing:
+            return f"no {', '.join(missing)} received"
+        assert self._scan is not None and self._odom is not None
+        gap = abs(self._scan[0] - self._odom[0])
+        if gap > self.sync_tolerance_ns:
+            return f"scan and odometry stamps differ by {gap / _NS_PER_S:.3f} s"
+        return f"no new scan and odometry for {age / _NS_PER_S:.3f} s"

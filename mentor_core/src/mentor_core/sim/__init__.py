@@ -1,0 +1,10 @@
+"""The simulation wing: the two robots and their 2-D worlds (paper section III).
+
+Robot profiles (body, range sensors, action limits, time budgets), worlds and the paper's DoE
+scenarios, unicycle kinematics, ray-cast sensors, body collisions, the planner's network inputs
+and actions (observation), the batched engine and episodes the trainer runs, the pymunk
+reference physics, and the REP-103/REP-105 frame conventions.
+
+Knows nothing of evolution: imports only ``mentor_core.errors``, ``mentor_core.atomic`` and
+its own modules.
+"""

@@ -1,0 +1,251 @@
+"""Episodes: many robots, one policy call per control period for all of them in a world.
+
+Each robot runs one scenario. Once per control period every still-active robot reads its
+sensors, the policy maps all their network inputs to outputs in one call, the outputs become
+actions, and :class:`mentor_core.sim.engine.BatchEngine` moves every robot along its arc. A robot
+stops when it reaches its goal, collides, or has used its ``ceil(T_tot / control_period)``
+decisions (T_tot from :meth:`RobotProfile.time_budget`, the paper's T_tot,i).
+
+Time: a decision takes one control period, except the one that reaches the goal, which takes
+the share of the period spent on the arc up to the arriving sample; ``time_used`` sums these.
+
+Experience (paper, "Experience-Gain"): every decision gives the point
+``V = [U(t), A(t), U(t + 1)]`` of dimension ``2 k + 2``, with ``U`` the k range readings
+clipped to the sensor range and ``A = (dtheta, ds)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from itertools import chain
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.sim import observation
+from mentor_core.sim.engine import BatchEngine
+from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.sensors import Backend
+from mentor_core.sim.world import Scenario, World
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+Policy = Callable[[FloatArray, IntArray], ArrayLike]
+
+
+@dataclass(frozen=True)
+class EpisodeBatch:
+    """Outcome of ``n`` episodes (one robot each), arrays indexed by robot.
+
+    Attributes:
+        reached, collided, timed_out: how each episode ended (exactly one is True).
+        time_used: time spent, s (fractional on the arriving decision).
+        time_budget: T_tot of the episode, s.
+        final_distance: S_f, distance from the final position to the goal, m.
+        steps: number of decisions taken.
+        trajectories: ``(n, T + 1, 3)`` pose after each decision (row 0 the start), padded with
+            the final pose; ``T = steps.max()``.
+        experience: per robot a ``(steps_i, 2 k + 2)`` array of experience points.
+    """
+
+    reached: BoolArray
+    collided: BoolArray
+    timed_out: BoolArray
+    time_used: FloatArray
+    time_budget: FloatArray
+    final_distance: FloatArray
+    steps: IntArray
+    trajectories: FloatArray
+    experience: tuple[FloatArray, ...]
+
+    @property
+    def time_remaining(self) -> FloatArray:
+        """T_rem: budget left on arrival (s), clipped to ``[0, T_tot]``; 0 for a failure."""
+        left = np.clip(self.time_budget - self.time_used, 0.0, self.time_budget)
+        return np.where(self.reached, left, 0.0)
+
+
+def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
+    """Indices of the scenarios of each distinct world, in order of first appearance."""
+    if not scenarios:
+        raise ValueError("run_episodes needs at least one scenario")
+    worlds = [sc.world for sc in scenarios]
+    if all(w is worlds[0] for w in worlds):  # the common case: one world object
+        return [np.arange(len(worlds), dtype=np.int64)]
+    distinct: list[World] = []
+    group_of: dict[int, int] = {}  # id of a world object -> its group (equal worlds share one)
+    label = np.empty(len(worlds), dtype=np.int64)
+    for i, w in enumerate(worlds):
+        if id(w) not in group_of:
+            same = [j for j, d in enumerate(distinct) if d == w]
+            group_of[id(w)] = same[0] if same else len(distinct)
+            if not same:
+                distinct.append(w)
+        label[i] = group_of[id(w)]
+    order = np.argsort(label, kind="stable")
+    bounds = np.cumsum(np.bincount(label))[:-1]
+    return np.split(order, bounds)
+
+
+def _decision_limits(
+    starts: FloatArray, goals: FloatArray, profile: RobotProfile,
+    time_budgets: ArrayLike | None, max_steps: int | None,
+) -> tuple[FloatArray, IntArray]:
+    """Budgets T_tot ``(n,)`` (s) and decisions allowed ``ceil(T_tot / dt)``, capped."""
+    if time_budgets is None:
+        budget = profile.time_budgets(starts, goals)
+    else:
+        budget = np.broadcast_to(np.asarray(time_budgets, dtype=np.float64), starts.shape[:1])
+        budget = budget.copy()
+    if not (np.isfinite(budget).all() and (budget >= 0.0).all()):
+        raise ValueError("time budgets must be finite and non-negative")
+    allowed = np.ceil(budget / profile.control_period).astype(np.int64)
+    if max_steps is not None:
+        if max_steps < 0:
+            raise ValueError(f"max_steps must be >= 0, got {max_steps}")
+        allowed = np.minimum(allowed, max_steps)
+    return budget, allowed
+
+
+def _group_experience(
+    chunks: list[FloatArray], owners: list[IntArray], steps: IntArray, width: int
+) -> tuple[FloatArray, ...]:
+    """Split the per-decision experience rows into one array per robot, in decision order.
+
+    Chunk ``t`` holds decision ``t`` of the robots ``owners[t]``: a robot decides once in
+    every period from the first until it stops, so robot ``i``'s decision ``t`` is row
+    ``start[i] + t`` of one array with ``steps[i]`` rows per robot, filled without a sort.
+    """
+    ends = np.cumsum(steps)
+    starts = ends - steps
+    rows = np.empty((int(ends[-1]) if ends.size else 0, width), dtype=np.float64)
+    for t, (chunk, idx) in enumerate(zip(chunks, owners, strict=True)):
+        rows[starts[idx] + t] = chunk
+    return tuple(rows[lo:hi] for lo, hi in zip(starts.tolist(), ends.tolist(), strict=True))
+
+
+def run_episodes(
+    scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy, *,
+    time_budgets: ArrayLike | None = None, max_steps: int | None = None,
+    backend: Backend = "auto",
+) -> EpisodeBatch:
+    """Run one robot per scenario to the end.
+
+    The robots of one world step together in one engine; scenarios in several worlds run as
+    one such batch per world, and since a robot's outputs do not depend on which robots share
+    a policy call, the result is the same as one run per scenario.
+
+    Args:
+        scenarios: start/goal pairs, in one world or several.
+        profile: the robot.
+        policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, 2)``, called
+            once per control period (and world) for the ``m`` still-active robots (indices
+            into ``scenarios``, ascending).
+        time_budgets: per-scenario T_tot (s) instead of ``profile.time_budget``.
+        max_steps: cap on the decisions of every robot.
+        backend: kernel backend of the engine.
+    """
+    groups = _world_groups(scenarios)
+    if len(groups) == 1:
+        return _run_world(scenarios, profile, policy, time_budgets, max_steps, backend)
+    n = len(scenarios)
+    budgets = (
+        None if time_budgets is None
+        else np.broadcast_to(np.asarray(time_budgets, dtype=np.float64), (n,))
+    )  # fmt: skip
+    parts = []
+    for idx in groups:
+        def world_policy(inputs: FloatArray, robots: IntArray, idx: IntArray = idx) -> ArrayLike:
+            return policy(inputs, idx[robots])
+
+        parts.append(_run_world(
+            [scenarios[i] for i in idx], profile, world_policy,
+            None if budgets is None else budgets[idx], max_steps, backend,
+        ))  # fmt: skip
+    return _merge(parts, groups, n)
+
+
+def _merge(parts: Sequence[EpisodeBatch], groups: Sequence[IntArray], n: int) -> EpisodeBatch:
+    """One batch of ``n`` robots from per-world batches of the robots ``groups[j]``."""
+    fields: dict[str, Any] = {}
+    for name in ("reached", "collided", "timed_out", "time_used", "time_budget",
+                 "final_distance", "steps"):  # fmt: skip
+        out = np.empty(n, dtype=getattr(parts[0], name).dtype)
+        for part, idx in zip(parts, groups, strict=True):
+            out[idx] = getattr(part, name)
+        fields[name] = out
+    length = max(part.trajectories.shape[1] for part in parts)
+    trajectories = np.empty((n, length, 3), dtype=np.float64)
+    experience: list[FloatArray] = [np.empty(0)] * n
+    for part, idx in zip(parts, groups, strict=True):
+        t = part.trajectories
+        trajectories[idx, : t.shape[1]] = t
+        trajectories[idx, t.shape[1] :] = t[:, -1:]  # padded with the final pose
+        for i, rows in zip(idx.tolist(), part.experience, strict=True):
+            experience[i] = rows
+    return EpisodeBatch(**fields, trajectories=trajectories, experience=tuple(experience))
+
+
+def _run_world(
+    scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy,
+    time_budgets: ArrayLike | None, max_steps: int | None, backend: Backend,
+) -> EpisodeBatch:
+    """:func:`run_episodes` of scenarios that all lie in the first one's world."""
+    world = scenarios[0].world
+    n = len(scenarios)
+    # fromiter over the flat coordinates: half the time of np.array over 8,000 tuples
+    starts = np.fromiter(chain.from_iterable([sc.start for sc in scenarios]), np.float64,
+                         count=3 * n).reshape(n, 3)
+    goals = np.fromiter(chain.from_iterable([sc.goal for sc in scenarios]), np.float64,
+                        count=2 * n).reshape(n, 2)
+    budget, allowed = _decision_limits(starts, goals, profile, time_budgets, max_steps)
+    dt = float(profile.control_period)
+
+    engine = BatchEngine(world, profile, backend=backend)
+    engine.reset(starts, goals)
+    reached = engine.goal_distance() <= profile.goal_radius  # already there: no decision
+    collided = np.zeros(n, dtype=np.bool_)
+    steps = np.zeros(n, dtype=np.int64)
+    time_used = np.zeros(n, dtype=np.float64)
+    active = ~reached & (allowed > 0)
+    ranges = engine.observe()
+    trajectory = [engine.poses.copy()]
+    chunks: list[FloatArray] = []
+    owners: list[IntArray] = []
+    zeros = np.zeros(n, dtype=np.float64)
+
+    while active.any():
+        idx = np.flatnonzero(active)
+        seen = ranges[idx]
+        inputs = observation.network_inputs(seen, engine.poses[idx], goals[idx], profile)
+        outputs = np.asarray(policy(inputs, idx), dtype=np.float64).reshape(idx.size, 2)
+        dth, ds = observation.actions_from_outputs(outputs, profile, seen)
+        dtheta_all, ds_all = zeros.copy(), zeros.copy()
+        dtheta_all[idx], ds_all[idx] = dth, ds
+        result = engine.step(dtheta_all, ds_all, active)
+        after = engine.observe(idx)
+        action = np.stack([dth, ds], axis=1)
+        chunks.append(observation.experience_point(seen, action, after, profile))
+        owners.append(idx)
+        ranges[idx] = after
+        steps[idx] += 1
+        time_used[idx] += np.where(result.reached[idx], result.fraction[idx], 1.0) * dt
+        reached |= result.reached
+        collided |= result.collided
+        active &= ~(result.reached | result.collided) & (steps < allowed)
+        trajectory.append(engine.poses.copy())
+
+    return EpisodeBatch(
+        reached=reached,
+        collided=collided,
+        timed_out=~(reached | collided),
+        time_used=time_used,
+        time_budget=budget,
+        final_distance=engine.goal_distance(),
+        steps=steps,
+        trajectories=np.stack(trajectory, axis=1),
+        experience=_group_experience(chunks, owners, steps, 2 * profile.n_sensors + 2),
+    )

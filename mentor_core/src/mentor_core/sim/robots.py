@@ -1,0 +1,515 @@
+"""Robot profiles: body, range sensors, action limits and time budget of each robot.
+
+All profiles live in one YAML file (``mentor_core/data/robots.yaml``, format
+``mentor-robots`` version 1) read by the simulator, the trainer and the planner, so the three
+always agree. Units are REP-103 (m, s, rad); the file writes angles in degrees (keys ending in
+``_deg``) and they are converted to radians here.
+
+Sensor order: reading ``i`` (network input ``i``, LaserScan range ``i``) comes from
+``profile.sensors[i]``. The default profiles list their sensors counter-clockwise seen from
+above, as a LaserScan's angles increase:
+
+* ``ugv``: 0 front-right, 1 front-left (front edge), 2 left-front, 3 left-rear (left edge),
+  4 rear-left, 5 rear-right (rear edge), 6 right-rear, 7 right-front (right edge); the two
+  sensors of an edge are 0.075 m apart and splayed +-22.5 deg about its normal, so sensor
+  ``i`` faces ``-22.5 + 45 i`` deg; the front pair (0, 1) reads 45 deg beams of 5 rays, the
+  others single rays.
+* ``swarm``: 0 front-right (-45 deg), 1 front-centre (0 deg), 2 front-left (+45 deg).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.errors import ConfigError, FileFormatError, is_number, is_version
+
+#: environment variable that names a robot file to use instead of the shipped one
+ROBOTS_ENV = "MENTOR_ROBOTS"
+PROFILES_FORMAT = "mentor-robots"
+PROFILES_VERSION = 1
+#: the network input encodings of ``mentor_core.sim.observation``
+INPUT_ENCODINGS = ("paper", "egocentric")
+# a mount may sit on the body edge; this absorbs the rounding of decimal coordinates
+_MOUNT_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class SensorMount:
+    """One range sensor in the body frame: position (m) and facing angle (rad, 0 = forward)."""
+
+    x: float
+    y: float
+    angle: float
+
+
+@dataclass(frozen=True)
+class RobotProfile:
+    """Everything the library needs to know about one robot (units m, s, rad).
+
+    Attributes:
+        name: profile key in the robot file (``ugv``, ``swarm``).
+        length, width: body rectangle along x and y of the body frame, m.
+        sensors: range sensors in reading order (see the module docstring).
+        sensor_range: maximum range of every sensor, m.
+        beam_width: full opening angle of a sensor's beam, rad (0: a single ray).
+        beam_rays: rays that sample a beam, evenly spread over ``beam_width`` (1 for a ray);
+            a reading is the nearest of its rays (see :meth:`beam_offsets`).
+        beam_sensors: reading indices of the sensors that have the beam, ascending; the
+            others read a single ray straight out. None: every sensor.
+        heading_change_max: the heading change action lies in [-max, max], rad.
+        step_min, step_max: the translation action lies in [step_min, step_max], m.
+        control_period: time of one decision, s.
+        rated_speed: pace used for the time budget, m/s.
+        goal_radius: a robot within this distance of the goal has reached it, m.
+        time_budget_slack, time_budget_cap: see :meth:`time_budget`.
+        train_arena, test_arena: side of the square training / unseen-test arena, m.
+        train_scenarios: number of training scenarios (start/goal pairs).
+        input_encoding: how the goal enters the network (``mentor_core.sim.observation``):
+            ``"paper"`` (map-frame signal gradient and global heading, as the paper) or
+            ``"egocentric"`` (goal direction in the body frame and goal signal). Not part of
+            the robot file: it belongs to a planner, and comes from the training config and
+            the genome's metadata (:func:`with_planner`).
+        clearance_margin: when set, a step never exceeds the free range read ahead less this
+            margin, m (:func:`mentor_core.sim.observation.clearance_limit`); None: no such limit,
+            as in the paper. A planner's setting, like ``input_encoding``.
+    """
+
+    name: str
+    length: float
+    width: float
+    sensors: tuple[SensorMount, ...]
+    sensor_range: float
+    heading_change_max: float
+    step_min: float
+    step_max: float
+    control_period: float
+    rated_speed: float
+    goal_radius: float
+    time_budget_slack: float
+    time_budget_cap: float
+    train_arena: float
+    train_scenarios: int
+    test_arena: float
+    beam_width: float = 0.0
+    beam_rays: int = 1
+    beam_sensors: tuple[int, ...] | None = None
+    input_encoding: str = "paper"
+    clearance_margin: float | None = None
+
+    @property
+    def sensor_mounts(self) -> NDArray[np.float64]:
+        """Mount ``(x, y)`` in the body frame (m) and facing (rad) of the sensors in reading
+        order: ``(n_sensors, 3)``."""
+        return np.array([(m.x, m.y, m.angle) for m in self.sensors], dtype=np.float64)
+
+    @property
+    def sensor_angles(self) -> NDArray[np.float64]:
+        """Facing angles of the sensors in reading order, rad: ``(n_sensors,)``."""
+        return self.sensor_mounts[:, 2]
+
+    @property
+    def n_sensors(self) -> int:
+        """Number of range sensors (readings)."""
+        return len(self.sensors)
+
+    @property
+    def beam_offsets(self) -> NDArray[np.float64]:
+        """Directions of a beam's rays relative to its sensor's facing, rad: ``(beam_rays,)``.
+
+        ``beam_rays`` angles evenly spaced over ``[-beam_width / 2, beam_width / 2]`` (the one
+        ray of a zero-width beam faces straight out). An ultrasonic sensor reports its nearest
+        echo anywhere in its cone; the nearest hit of these rays samples that cone.
+        """
+        if self.beam_rays == 1:
+            return np.zeros(1, dtype=np.float64)
+        half = 0.5 * self.beam_width
+        return np.linspace(-half, half, self.beam_rays, dtype=np.float64)
+
+    @property
+    def ray_counts(self) -> NDArray[np.int64]:
+        """Rays of each sensor in reading order: ``beam_rays`` for a sensor with the beam,
+        else 1: ``(n_sensors,)``."""
+        counts = np.ones(self.n_sensors, dtype=np.int64)
+        counts[self._beam_rows()] = self.beam_rays
+        return counts
+
+    @property
+    def ray_offsets(self) -> NDArray[np.float64]:
+        """Directions of each sensor's rays relative to its facing, rad:
+        ``(n_sensors, beam_rays)``. Row ``i`` is :meth:`beam_offsets` for a sensor with the
+        beam; a sensor without it has all zeros (its one ray, repeated: the nearest of equal
+        rays is that ray's reading, so only its first ray needs casting)."""
+        offsets = np.zeros((self.n_sensors, self.beam_rays), dtype=np.float64)
+        offsets[self._beam_rows()] = self.beam_offsets
+        return offsets
+
+    def _beam_rows(self) -> list[int] | slice:
+        return slice(None) if self.beam_sensors is None else list(self.beam_sensors)
+
+    @property
+    def n_inputs(self) -> int:
+        """Network inputs without the bias: the readings, dX, dY and the heading."""
+        return self.n_sensors + 3
+
+    @property
+    def half_diagonal(self) -> float:
+        """Radius of the circle around the body centre that holds the whole body, m."""
+        return 0.5 * math.hypot(self.length, self.width)
+
+    @property
+    def uncapped_distance(self) -> float:
+        """Longest straight start-goal distance whose time budget the cap does not cut, m.
+
+        d* = cap * rated_speed / slack (from slack * d* / rated_speed = cap).
+        """
+        return self.time_budget_cap * self.rated_speed / self.time_budget_slack
+
+    @property
+    def body_polygon(self) -> tuple[tuple[float, float], ...]:
+        """Body rectangle corners in the body frame, counter-clockwise from rear-right, m."""
+        hl, hw = 0.5 * self.length, 0.5 * self.width
+        return ((-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw))
+
+    def time_budget(self, start_xy: ArrayLike, goal_xy: ArrayLike) -> float:
+        """Time budget of a scenario, s.
+
+        T_tot = min(cap, slack * d / rated_speed), d = |goal - start| the straight distance.
+        """
+        return float(self.time_budgets(start_xy, goal_xy)[0])
+
+    def time_budgets(self, starts: ArrayLike, goals: ArrayLike) -> NDArray[np.float64]:
+        """:meth:`time_budget` of many scenarios: starts ``(n, >=2)``, goals ``(n, >=2)`` ->
+        ``(n,)`` s."""
+        s = np.atleast_2d(np.asarray(starts, dtype=np.float64))
+        g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
+        d = np.hypot(g[:, 0] - s[:, 0], g[:, 1] - s[:, 1])
+        budgets: NDArray[np.float64] = np.minimum(
+            self.time_budget_cap, self.time_budget_slack * d / self.rated_speed
+        )
+        return budgets
+
+
+def with_planner(
+    profile: RobotProfile,
+    *,
+    input_encoding: object = None,
+    heading_change_max: object = None,
+    step_max: object = None,
+    step_min: object = None,
+    clearance_margin: object = None,
+    source: str | Path = "",
+) -> RobotProfile:
+    """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
+    ``(0, pi]``), its largest step (m, in ``[profile.step_min, profile.step_max]``), its
+    smallest step (m, in ``[0, step_max]``) and its clearance margin (m, >= 0; see
+    :func:`mentor_core.sim.observation.clearance_limit`) replaced where given (None keeps the
+    profile's).
+
+    A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
+    profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
+    of a scenario (:meth:`RobotProfile.time_budget`) stays reachable.
+
+    All of them belong to a planner, not to the robot: the trainer takes them from its config
+    and writes them into the genome's metadata (``mentor_core.runtime.planner.planner_profile``).
+    ConfigError naming ``source`` and the key for a bad value.
+    """
+    changes: dict[str, Any] = {}
+    where = source or None
+    if input_encoding is not None:
+        if input_encoding not in INPUT_ENCODINGS:
+            raise ConfigError(
+                f"must be one of {', '.join(INPUT_ENCODINGS)}, got {input_encoding!r}",
+                key="input_encoding",
+                path=where,
+            )
+        changes["input_encoding"] = str(input_encoding)
+    if heading_change_max is not None:
+        limit = _planner_number(
+            heading_change_max, lambda v: 0.0 < v <= math.pi + 1e-12, "(0, pi] rad",
+            "heading_change_max", where,
+        )  # fmt: skip
+        changes["heading_change_max"] = min(limit, math.pi)
+    if step_max is not None:
+        step = _planner_number(
+            step_max, lambda v: profile.step_min <= v <= profile.step_max,
+            f"[{profile.step_min}, {profile.step_max}] m", "step_max", where,
+        )  # fmt: skip
+        changes["step_max"] = step
+        changes["rated_speed"] = profile.rated_speed * step / profile.step_max
+    if step_min is not None:
+        top = changes.get("step_max", profile.step_max)
+        changes["step_min"] = _planner_number(
+            step_min, lambda v: 0.0 <= v <= top, f"[0, {top}] m", "step_min", where
+        )
+    if clearance_margin is not None:
+        changes["clearance_margin"] = _planner_number(
+            clearance_margin, lambda v: 0.0 <= v < math.inf, "[0, inf) m", "clearance_margin",
+            where,
+        )  # fmt: skip
+    return dataclasses.replace(profile, **changes)
+
+
+def _planner_number(
+    value: object, ok: Callable[[float], bool], allowed: str, key: str, where: str | Path | None
+) -> float:
+    """``value`` as a float when it is a number (not a bool) that ``ok`` accepts, else a
+    ConfigError naming ``key`` and the ``allowed`` range."""
+    if not is_number(value) or not ok(float(value)):
+        raise ConfigError(f"must be a number in {allowed}, got {value!r}", key=key, path=where)
+    return float(value)
+
+
+def sensor_record(profile: RobotProfile) -> dict[str, Any]:
+    """What a planner's readings depend on, as plain JSON values: the mounts ``[x, y, angle]``
+    (m, m, rad) in reading order, the range (m) and the beam (rad, rays, and the sensors that
+    have it unless all do).
+
+    Written with a trained genome and a checkpoint, so that a planner is never run, nor a run
+    resumed, with sensors other than those it was trained with.
+    """
+    return {
+        "sensors": [[m.x, m.y, m.angle] for m in profile.sensors],
+        "sensor_range": profile.sensor_range,
+        "beam_width": profile.beam_width,
+        "beam_rays": profile.beam_rays,
+        # only when some sensors lack the beam, so that older records of every other
+        # profile stay equal
+        **({} if profile.beam_sensors is None else {"beam_sensors": list(profile.beam_sensors)}),
+    }
+
+
+def body_corners(profile: RobotProfile, poses: ArrayLike) -> NDArray[np.float64]:
+    """Map-frame corners of the body at each pose: (n, 3) poses -> (n, 4, 2), m.
+
+    corner = (x, y) + R(theta) c for each body-frame corner c of ``profile.body_polygon``.
+    """
+    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
+    local = np.asarray(profile.body_polygon, dtype=np.float64)
+    c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
+    x = p[:, 0:1] + c * local[None, :, 0] - s * local[None, :, 1]
+    y = p[:, 1:2] + s * local[None, :, 0] + c * local[None, :, 1]
+    return np.stack([x, y], axis=-1)
+
+
+def shipped_profiles_path() -> Path:
+    """Path of the robot file shipped with mentor_core."""
+    return Path(str(resources.files("mentor_core").joinpath("data/robots.yaml")))
+
+
+def default_profiles_path() -> Path:
+    """The robot file in use: the one ``$MENTOR_ROBOTS`` names, else the shipped one.
+
+    One variable, read by the trainer (and its workers), mentor-eval, mentor-report and both
+    ROS nodes alike, so that all of them simulate and plan for the same robots (e.g. the
+    paper's UGV with its sensor pairs facing straight out, docs/algorithm.md "Sensors").
+    """
+    chosen = os.environ.get(ROBOTS_ENV, "")
+    return Path(chosen) if chosen else shipped_profiles_path()
+
+
+def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
+    """Read and validate every profile of a robot file (default: :func:`default_profiles_path`).
+
+    Raises:
+        FileFormatError: the file is missing, not YAML, or of another format or version.
+        ConfigError: a key is unknown or missing, or a value is out of range (names both the
+            key, e.g. ``robots.ugv.step_min``, and the file).
+    """
+    source = default_profiles_path() if path is None else Path(path)
+    try:
+        text = source.read_text(encoding="utf-8")
+    except OSError as err:
+        raise FileFormatError(source, f"cannot read robot file ({err.strerror})") from None
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        raise FileFormatError(source, f"not valid YAML ({_first_line(err)})") from None
+    if not isinstance(doc, dict):
+        raise FileFormatError(source, "expected a mapping at the top level")
+    if doc.get("format") != PROFILES_FORMAT:
+        raise FileFormatError(source, f"format is {doc.get('format')!r}, not {PROFILES_FORMAT!r}")
+    if not is_version(doc.get("version"), PROFILES_VERSION):
+        raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
+    _check_keys(doc, {"format", "version", "robots"}, {"format", "version", "robots"}, "", source)
+    robots = doc["robots"]
+    if not isinstance(robots, dict) or not robots:
+        raise ConfigError("expected a non-empty mapping of profiles", key="robots", path=source)
+    return {
+        str(name): _parse_profile(str(name), spec, source) for name, spec in sorted(robots.items())
+    }
+
+
+def get_profile(name: str, path: str | Path | None = None) -> RobotProfile:
+    """The profile called ``name``; ConfigError naming the known ones when there is none."""
+    profiles = load_profiles(path)
+    if name not in profiles:
+        where = default_profiles_path() if path is None else path
+        known = ", ".join(sorted(profiles))
+        raise ConfigError(f"unknown robot {name!r} (known: {known})", key="robot", path=where)
+    return profiles[name]
+
+
+_SCALARS = (
+    "length",
+    "width",
+    "sensor_range",
+    "heading_change_max_deg",
+    "step_min",
+    "step_max",
+    "control_period",
+    "rated_speed",
+    "time_budget_slack",
+    "time_budget_cap",
+    "goal_radius",
+    "train_arena",
+    "test_arena",
+)
+_REQUIRED_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
+# optional: a ray sensor (width 0, one ray) unless given
+_BEAM_KEYS = {"beam_width_deg", "beam_rays", "beam_sensors"}
+_MOUNT_KEYS = {"x", "y", "angle_deg"}
+
+
+def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
+    prefix = f"robots.{name}"
+    if not isinstance(spec, dict):
+        raise ConfigError("expected a mapping", key=prefix, path=source)
+    _check_keys(spec, _REQUIRED_KEYS | _BEAM_KEYS, _REQUIRED_KEYS, prefix, source)
+    # every scalar of a profile is a size, a time or a limit: all must be positive
+    v = {key: _number(spec[key], f"{prefix}.{key}", source, positive=True) for key in _SCALARS}
+    if v["step_min"] > v["step_max"]:
+        raise ConfigError(
+            f"step_min {v['step_min']} exceeds step_max {v['step_max']}",
+            key=f"{prefix}.step_min",
+            path=source,
+        )
+    count = _count(spec["train_scenarios"], f"{prefix}.train_scenarios", source)
+    beam_width, beam_rays = _beam(spec, prefix, source)
+    mounts = spec["sensors"]
+    if not isinstance(mounts, list) or not mounts:
+        raise ConfigError("expected a non-empty list", key=f"{prefix}.sensors", path=source)
+    sensors = tuple(
+        _parse_mount(m, f"{prefix}.sensors[{i}]", v["length"], v["width"], source)
+        for i, m in enumerate(mounts)
+    )
+    beam_sensors = _beam_sensors(spec.get("beam_sensors"), beam_rays, len(sensors), prefix,
+                                 source)
+    return RobotProfile(
+        name=name,
+        length=v["length"],
+        width=v["width"],
+        sensors=sensors,
+        sensor_range=v["sensor_range"],
+        heading_change_max=math.radians(v["heading_change_max_deg"]),
+        step_min=v["step_min"],
+        step_max=v["step_max"],
+        control_period=v["control_period"],
+        rated_speed=v["rated_speed"],
+        goal_radius=v["goal_radius"],
+        time_budget_slack=v["time_budget_slack"],
+        time_budget_cap=v["time_budget_cap"],
+        train_arena=v["train_arena"],
+        train_scenarios=count,
+        test_arena=v["test_arena"],
+        beam_width=beam_width,
+        beam_rays=beam_rays,
+        beam_sensors=beam_sensors,
+    )
+
+
+def _count(value: Any, key: str, source: Path) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ConfigError("must be a positive integer", key=key, path=source)
+    return value
+
+
+def _beam(spec: Mapping[str, Any], prefix: str, source: Path) -> tuple[float, int]:
+    """``(beam_width rad, beam_rays)`` of a profile: a single ray unless both say otherwise."""
+    width = _number(spec.get("beam_width_deg", 0.0), f"{prefix}.beam_width_deg", source)
+    rays = _count(spec.get("beam_rays", 1), f"{prefix}.beam_rays", source)
+    if not 0.0 <= width < 180.0:
+        raise ConfigError(
+            f"must lie in [0, 180) deg, got {width}", key=f"{prefix}.beam_width_deg", path=source
+        )
+    if (width == 0.0) != (rays == 1):
+        raise ConfigError(
+            f"a beam {width} deg wide needs {'1 ray' if width == 0.0 else 'at least 2 rays'}, "
+            f"got {rays}",
+            key=f"{prefix}.beam_rays",
+            path=source,
+        )
+    return math.radians(width), rays
+
+
+def _beam_sensors(
+    spec: Any, beam_rays: int, n_sensors: int, prefix: str, source: Path
+) -> tuple[int, ...] | None:
+    """The ``beam_sensors`` list of a profile: distinct reading indices, given only with a
+    beam; None when absent (every sensor has the beam)."""
+    if spec is None:
+        return None
+    key = f"{prefix}.beam_sensors"
+    if beam_rays == 1:
+        raise ConfigError("needs a beam (beam_width_deg and beam_rays)", key=key, path=source)
+    ok = isinstance(spec, list) and spec and all(
+        isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n_sensors for i in spec
+    )
+    if not ok or len(set(spec)) != len(spec):
+        raise ConfigError(
+            f"expected a non-empty list of distinct sensor indices in [0, {n_sensors}), "
+            f"got {spec!r}", key=key, path=source,
+        )
+    return tuple(sorted(spec))
+
+
+def _parse_mount(spec: Any, key: str, length: float, width: float, source: Path) -> SensorMount:
+    if not isinstance(spec, dict):
+        raise ConfigError("expected a mapping with x, y, angle_deg", key=key, path=source)
+    _check_keys(spec, _MOUNT_KEYS, _MOUNT_KEYS, key, source)
+    x = _number(spec["x"], f"{key}.x", source)
+    y = _number(spec["y"], f"{key}.y", source)
+    angle = _number(spec["angle_deg"], f"{key}.angle_deg", source)
+    if abs(x) > 0.5 * length + _MOUNT_TOLERANCE or abs(y) > 0.5 * width + _MOUNT_TOLERANCE:
+        raise ConfigError(
+            f"sensor at ({x}, {y}) lies outside the {length} x {width} m body",
+            key=key,
+            path=source,
+        )
+    return SensorMount(x=x, y=y, angle=math.radians(angle))
+
+
+def _number(value: Any, key: str, source: Path, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ConfigError(f"expected a finite number, got {value!r}", key=key, path=source)
+    if positive and value <= 0:
+        raise ConfigError(f"must be positive, got {value}", key=key, path=source)
+    return float(value)
+
+
+def _check_keys(
+    spec: Mapping[Any, Any], allowed: set[str], required: set[str], prefix: str, source: Path
+) -> None:
+    def full(k: object) -> str:
+        return f"{prefix}.{k}" if prefix else str(k)
+
+    for k in sorted(map(str, spec)):
+        if k not in allowed:
+            raise ConfigError("unknown key", key=full(k), path=source)
+    for k in sorted(required):
+        if k not in spec:
+            raise ConfigError("missing key", key=full(k), path=source)
+
+
+def _first_line(err: Exception) -> str:
+    return str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__

@@ -1,0 +1,269 @@
+"""Worlds (square arena with axis-aligned box obstacles), scenarios, and their YAML file.
+
+Frame ``map`` (REP-105): origin at the arena's lower-left corner, x right, y up, the arena is
+``[0, size] x [0, size]`` m. An obstacle is a box ``[xmin, ymin, xmax, ymax]`` (m) inside the
+arena; two obstacles may touch but never overlap with positive area.
+
+World file (YAML, format ``mentor-world``, version 1, lengths in m, angles in rad)::
+
+    format: mentor-world
+    version: 1
+    units: m                     # optional; only "m" is accepted
+    name: demo                   # optional
+    size: 12.0
+    obstacles:                   # may be empty
+      - [1.0, 1.0, 2.0, 1.5]     # xmin, ymin, xmax, ymax
+    scenarios:                   # optional start/goal pairs
+      - {start: [0.5, 0.5, 0.0], goal: [10.0, 10.0]}   # start (x, y, theta), goal (x, y)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.atomic import write_text_atomic
+from mentor_core.errors import FileFormatError, is_number, is_version
+from mentor_core.sim.kinematics import wrap_angle
+
+WORLD_FORMAT = "mentor-world"
+WORLD_VERSION = 1
+_TOP_KEYS = {"format", "version", "units", "name", "size", "obstacles", "scenarios"}
+_SCENARIO_KEYS = {"start", "goal"}
+
+
+@dataclass(frozen=True, eq=False)
+class World:
+    """A square arena of side ``size`` (m) with read-only (k, 4) float64 ``obstacles``.
+
+    The constructor copies and checks the obstacles (ValueError naming the fault): finite,
+    ``xmax > xmin`` and ``ymax > ymin``, inside the arena, no positive-area overlap. Equality
+    and hash compare size, name and the obstacle values.
+    """
+
+    size: float
+    obstacles: NDArray[np.float64] = field(
+        default_factory=lambda: np.zeros((0, 4), dtype=np.float64)
+    )
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        size = float(self.size)
+        if not math.isfinite(size) or size <= 0.0:
+            raise ValueError(f"arena size must be a positive finite number, got {self.size!r}")
+        boxes = np.array(self.obstacles, dtype=np.float64, copy=True)
+        if boxes.size == 0:
+            boxes = boxes.reshape(0, 4)
+        if boxes.ndim != 2 or boxes.shape[1] != 4:
+            raise ValueError(f"obstacles must be a (k, 4) array, got shape {boxes.shape}")
+        fault = _obstacle_fault(boxes, size)
+        if fault:
+            raise ValueError(fault)
+        boxes.setflags(write=False)
+        object.__setattr__(self, "size", size)
+        object.__setattr__(self, "obstacles", boxes)
+        object.__setattr__(self, "name", str(self.name))
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, World):
+            return NotImplemented
+        return (
+            self.size == other.size
+            and self.name == other.name
+            and np.array_equal(self.obstacles, other.obstacles)
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.size, self.name, self.obstacles.tobytes()))
+
+    def __repr__(self) -> str:
+        boxes = len(self.obstacles)
+        return f"World(size={self.size}, obstacles=<{boxes} boxes>, name={self.name!r})"
+
+    def signed_distance(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Signed distance (m) from each point (n, 2) to the nearest obstacle or wall.
+
+        Per box: outside, the Euclidean distance ``hypot(max(xmin - x, 0, x - xmax),
+        max(ymin - y, 0, y - ymax))``; inside, minus the depth ``min(x - xmin, xmax - x,
+        y - ymin, ymax - y)``. Walls: ``min(x, size - x, y, size - y)`` (negative outside).
+        The result is the minimum over boxes and walls.
+        """
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        x, y = p[:, 0:1], p[:, 1:2]
+        walls = np.minimum(np.minimum(x, self.size - x), np.minimum(y, self.size - y))[:, 0]
+        if self.obstacles.shape[0] == 0:
+            return walls
+        b = self.obstacles
+        dx = np.maximum(np.maximum(b[None, :, 0] - x, x - b[None, :, 2]), 0.0)
+        dy = np.maximum(np.maximum(b[None, :, 1] - y, y - b[None, :, 3]), 0.0)
+        depth = np.minimum(
+            np.minimum(x - b[None, :, 0], b[None, :, 2] - x),
+            np.minimum(y - b[None, :, 1], b[None, :, 3] - y),
+        )
+        boxes = np.where(depth > 0.0, -depth, np.hypot(dx, dy))
+        return np.asarray(np.minimum(walls, boxes.min(axis=1)), dtype=np.float64)
+
+    def free_at(self, points: ArrayLike, clearance: float = 0.0) -> NDArray[np.bool_]:
+        """(n,) True where a point is at least ``clearance`` (m) from every obstacle and wall."""
+        return self.signed_distance(points) >= clearance
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A mission in ``world``: start pose (x, y, theta) (m, m, rad) and goal (x, y) (m).
+
+    The constructor wraps theta onto (-pi, pi] and raises ValueError when a value is not
+    finite or the start or goal lies outside the arena or strictly inside an obstacle.
+    """
+
+    world: World
+    start: tuple[float, float, float]
+    goal: tuple[float, float]
+
+    def __post_init__(self) -> None:
+        start = tuple(float(v) for v in self.start)
+        goal = tuple(float(v) for v in self.goal)
+        if len(start) != 3 or len(goal) != 2:
+            raise ValueError("start must be (x, y, theta) and goal (x, y)")
+        if not all(math.isfinite(v) for v in start + goal):
+            raise ValueError(f"start {start} or goal {goal} is not finite")
+        for label, xy in (("start", start[:2]), ("goal", goal)):
+            fault = _point_fault(self.world, xy)
+            if fault:
+                raise ValueError(f"{label} {xy} {fault}")
+        wrapped = (start[0], start[1], float(wrap_angle(start[2])))
+        object.__setattr__(self, "start", wrapped)
+        object.__setattr__(self, "goal", (goal[0], goal[1]))
+
+
+def _obstacle_fault(boxes: NDArray[np.float64], size: float) -> str:
+    """The first thing wrong with a (k, 4) obstacle array, or '' when it is valid."""
+    for i, (x0, y0, x1, y1) in enumerate(boxes):
+        if not np.all(np.isfinite((x0, y0, x1, y1))):
+            return f"obstacles[{i}] is not finite"
+        if x1 <= x0 or y1 <= y0:
+            return f"obstacles[{i}] has xmax <= xmin or ymax <= ymin"
+        if x0 < 0.0 or y0 < 0.0 or x1 > size or y1 > size:
+            return f"obstacles[{i}] lies outside the arena [0, {size}]^2"
+    # positive-area intersection of each pair (upper triangle only)
+    ox = np.minimum(boxes[:, None, 2], boxes[None, :, 2]) - np.maximum(
+        boxes[:, None, 0], boxes[None, :, 0]
+    )
+    oy = np.minimum(boxes[:, None, 3], boxes[None, :, 3]) - np.maximum(
+        boxes[:, None, 1], boxes[None, :, 1]
+    )
+    pairs = np.argwhere(np.triu((ox > 0.0) & (oy > 0.0), k=1))
+    if pairs.size:
+        i, j = pairs[0]
+        return f"obstacles[{i}] and obstacles[{j}] overlap"
+    return ""
+
+
+def _point_fault(world: World, xy: Sequence[float]) -> str:
+    x, y = xy
+    if not (0.0 <= x <= world.size and 0.0 <= y <= world.size):
+        return "lies outside the arena"
+    b = world.obstacles
+    inside = (b[:, 0] < x) & (x < b[:, 2]) & (b[:, 1] < y) & (y < b[:, 3])
+    if np.any(inside):
+        return f"lies inside obstacles[{int(np.flatnonzero(inside)[0])}]"
+    return ""
+
+
+def load_world(path: str | Path) -> tuple[World, list[Scenario]]:
+    """Read and validate a world file; FileFormatError naming the file and the fault."""
+    source = Path(path)
+    try:
+        text = source.read_text(encoding="utf-8")
+    except OSError as err:
+        raise FileFormatError(source, f"cannot read world file ({err.strerror})") from None
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        line = str(err).strip().splitlines()[0] if str(err).strip() else "parse error"
+        raise FileFormatError(source, f"not valid YAML ({line})") from None
+    try:
+        return _world_from_doc(doc)
+    except (ValueError, TypeError) as err:
+        raise FileFormatError(source, str(err)) from None
+
+
+def _world_from_doc(doc: Any) -> tuple[World, list[Scenario]]:
+    if not isinstance(doc, dict):
+        raise ValueError("expected a mapping at the top level")
+    if doc.get("format") != WORLD_FORMAT:
+        raise ValueError(f"format is {doc.get('format')!r}, not {WORLD_FORMAT!r}")
+    if not is_version(doc.get("version"), WORLD_VERSION):
+        raise ValueError(f"version {doc.get('version')!r} is not supported")
+    unknown = sorted(set(map(str, doc)) - _TOP_KEYS)
+    if unknown:
+        raise ValueError(f"unknown key {unknown[0]!r}")
+    if doc.get("units", "m") != "m":
+        raise ValueError(f"units must be 'm', got {doc.get('units')!r}")
+    if "size" not in doc:
+        raise ValueError("missing key 'size'")
+    size = _numbers(doc["size"], "size", 1)[0]
+    raw = doc.get("obstacles") or []
+    if not isinstance(raw, list):
+        raise ValueError("obstacles must be a list of [xmin, ymin, xmax, ymax]")
+    boxes = [_numbers(b, f"obstacles[{i}]", 4) for i, b in enumerate(raw)]
+    name = str(doc.get("name", ""))
+    world = World(size=size, obstacles=np.array(boxes).reshape(-1, 4), name=name)
+    entries = doc.get("scenarios") or []
+    if not isinstance(entries, list):
+        raise ValueError("scenarios must be a list of {start, goal}")
+    scenarios = []
+    for i, entry in enumerate(entries):
+        if not isinstance(entry, dict) or set(map(str, entry)) != _SCENARIO_KEYS:
+            raise ValueError(f"scenarios[{i}] must have exactly the keys start and goal")
+        start = _numbers(entry["start"], f"scenarios[{i}].start", 3)
+        goal = _numbers(entry["goal"], f"scenarios[{i}].goal", 2)
+        try:
+            scenarios.append(Scenario(world, (start[0], start[1], start[2]), (goal[0], goal[1])))
+        except ValueError as err:
+            raise ValueError(f"scenarios[{i}]: {err}") from None
+    return world, scenarios
+
+
+def _numbers(value: Any, key: str, n: int) -> list[float]:
+    """``n`` finite numbers from a scalar (n = 1) or a list; ValueError naming ``key``."""
+    items = [value] if n == 1 and not isinstance(value, list) else value
+    if not isinstance(items, list) or len(items) != n:
+        raise ValueError(f"{key} must be a list of {n} numbers")
+    for v in items:
+        if not is_number(v):
+            raise ValueError(f"{key} must hold numbers, got {v!r}")
+        if not math.isfinite(v):
+            raise ValueError(f"{key} is not finite ({v})")
+    return [float(v) for v in items]
+
+
+def save_world(path: str | Path, world: World, scenarios: Iterable[Scenario] = ()) -> None:
+    """Write ``world`` and start/goal pairs as a world file, atomically.
+
+    Floats are written with ``repr`` precision, so :func:`load_world` gives back equal values.
+    Raises ValueError when a scenario belongs to another world.
+    """
+    scenarios = list(scenarios)
+    if any(s.world != world for s in scenarios):
+        raise ValueError("every scenario saved with a world must belong to that world")
+    doc: dict[str, Any] = {
+        "format": WORLD_FORMAT,
+        "version": WORLD_VERSION,
+        "units": "m",
+        "name": world.name,
+        "size": world.size,
+        "obstacles": [[float(v) for v in box] for box in world.obstacles],
+        "scenarios": [
+            {"start": [float(v) for v in s.start], "goal": [float(v) for v in s.goal]}
+            for s in scenarios
+        ],
+    }
+    write_text_atomic(path, yaml.safe_dump(doc, sort_keys=False, default_flow_style=None))

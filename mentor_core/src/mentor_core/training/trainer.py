@@ -1,0 +1,266 @@
+"""The single-stage and dual-stage MENTOR trainers (paper section III-D).
+
+* single-stage: performance F only, for all generations;
+* dual-stage: stage 1 maximises (F, G) with NSGA-II ranking for ``stage1_generations``; stage 2
+  maximises F only ("direct rank based proportionate selection" = single-objective ranking),
+  starting from the best ``stage2_seed_fraction`` of stage 1's final population by F.
+
+Both frameworks see the same scenarios and the same number of evaluations (population size x
+generations), so their histories share one axis. A run is a directory (see
+:class:`~mentor_core.training.run_files.RunPaths`); a checkpoint is written atomically after
+every generation and ``resume=True`` continues from it, ending identical to an unbroken run with
+the same seed.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from mentor_core.atomic import write_json_atomic, write_text_atomic
+from mentor_core.errors import ConfigError, FileFormatError, is_version, one_line
+from mentor_core.evolution.genome import Genome
+from mentor_core.evolution.loop import Evolution, Mode
+from mentor_core.files.genome_file import save_genome
+from mentor_core.objectives.complexity import flops_ratio
+from mentor_core.sim.robots import RobotProfile, get_profile, sensor_record, with_planner
+from mentor_core.sim.scenarios import DoEConfig, training_scenarios
+from mentor_core.training.config import TrainerConfig
+from mentor_core.training.evaluators import Evaluator, InProcessEvaluator
+from mentor_core.training.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
+from mentor_core.training.run_files import (
+    GenerationRecord,
+    RunPaths,
+    history_csv,
+    history_from_csv,
+    load_json,
+    pareto_json,
+    population_json,
+)
+
+CHECKPOINT_FORMAT = "mentor-train-checkpoint"
+CHECKPOINT_VERSION = 1
+# config keys added after checkpoint version 1 came out, with the value their absence meant
+_CONFIG_KEYS_ADDED: dict[str, Any] = {
+    "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
+    "doe": DoEConfig().to_dict(),
+}
+
+
+@dataclass(frozen=True)
+class TrainResult:
+    """What :func:`train` returns: the run directory, its history and the best genome."""
+
+    paths: RunPaths
+    history: list[GenerationRecord]
+    best_genome: Genome
+    best_objectives: tuple[float, float]
+
+
+Callback = Callable[[GenerationRecord], None]
+
+
+def make_problem(
+    config: TrainerConfig, profile: RobotProfile | None = None, source: str = "trainer config"
+) -> NavigationProblem:
+    """The training problem of a config: its robot's scenarios from ``scenario_seed``, the
+    network fed with the config's input encoding (``profile`` defaults to the shipped one).
+
+    ConfigError naming ``source`` (the config file) for planner settings outside the robot's
+    own ranges and more training worlds than scenarios."""
+    limit = config.heading_change_max_deg
+    prof = with_planner(
+        profile or get_profile(config.robot),
+        input_encoding=config.input_encoding,
+        heading_change_max=None if limit is None else math.radians(limit),
+        step_max=config.step_max,
+        step_min=config.step_min,
+        clearance_margin=config.clearance_margin,
+        source=source,
+    )
+    count = config.n_scenarios or prof.train_scenarios
+    if config.training_worlds > count:
+        raise ConfigError(
+            f"{count} training scenarios cannot cover {config.training_worlds} worlds",
+            key="training_worlds",
+            path=source,
+        )
+    scenarios = training_scenarios(
+        prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds
+    )
+    return NavigationProblem(prof, scenarios)
+
+
+class _Run:
+    """The mutable state of one training run (kept out of the configs)."""
+
+    def __init__(self, config: TrainerConfig, seed: int, problem: NavigationProblem) -> None:
+        self.config = config
+        self.seed = seed
+        self.problem = problem
+        self.evolution = Evolution(
+            config.evolution, problem.n_inputs, 2, seed=seed, objectives=2
+        )
+        self.generation = 0
+        self.history: list[GenerationRecord] = []
+
+    def stage_of(self, generation: int) -> tuple[int, Mode, bool]:
+        """(stage index, mode, is this the stage's last generation) of a generation."""
+        start = 0
+        for index, (mode, count) in enumerate(self.config.stages()):
+            if generation < start + count:
+                return index, mode, generation == start + count - 1
+            start += count
+        raise IndexError(generation)
+
+    def to_state(self) -> dict[str, Any]:
+        return {
+            "format": CHECKPOINT_FORMAT,
+            "version": CHECKPOINT_VERSION,
+            "seed": self.seed,
+            "config": self.config.to_dict(),
+            "sensors": sensor_record(self.problem.profile),
+            "generation": self.generation,
+            "evolution": self.evolution.to_state(),
+            "history": history_csv(self.history),
+        }
+
+    def load_state(self, state: dict[str, Any], path: Path) -> None:
+        if state.get("format") != CHECKPOINT_FORMAT:
+            raise FileFormatError(path, f"not a {CHECKPOINT_FORMAT} file")
+        if not is_version(state.get("version"), CHECKPOINT_VERSION):
+            raise FileFormatError(path, f"unsupported version {state.get('version')!r}")
+        # keys added since a checkpoint was written, whose absence meant these values
+        saved = {**_CONFIG_KEYS_ADDED, **(state.get("config") or {})}
+        if saved != self.config.to_dict() or state.get("seed") != self.seed:
+            raise FileFormatError(path, "checkpoint was written by a different config or seed")
+        sensors = state.get("sensors")  # absent in checkpoints written before the record
+        if sensors is not None and sensors != sensor_record(self.problem.profile):
+            raise FileFormatError(path, "checkpoint was written with other robot sensors")
+        try:
+            self.evolution = Evolution.from_state(state["evolution"])
+            self.generation = int(state["generation"])
+            self.history = history_from_csv(state["history"])
+        except (KeyError, TypeError, ValueError) as err:
+            raise FileFormatError(path, f"corrupt checkpoint ({one_line(err)})") from None
+
+
+def train(
+    config: TrainerConfig,
+    out_dir: str | Path,
+    *,
+    seed: int = 0,
+    evaluator: Evaluator | None = None,
+    resume: bool = False,
+    callbacks: Sequence[Callback] = (),
+    stop_after: int | None = None,
+) -> TrainResult:
+    """Train a planner; returns when all generations ran (or ``stop_after`` generations).
+
+    Steps per generation: ask the evolution for its population; evaluate it (F, G); tell the
+    evolution (ranking by (F, G) in stage 1 of dual-stage, by F otherwise), which speciates,
+    sizes the niches and breeds; at the end of dual stage 1, reseed from its best by F;
+    record the history row; write the checkpoint atomically; call the callbacks.
+    """
+    paths = RunPaths(Path(out_dir))
+    problem = evaluator.problem if evaluator is not None else make_problem(config)
+    own_evaluator = evaluator is None
+    evaluator = evaluator or InProcessEvaluator(problem)
+    run = _Run(config, seed, problem)
+    if resume and paths.checkpoint.exists():
+        run.load_state(load_json(paths.checkpoint), paths.checkpoint)
+    elif paths.checkpoint.exists():
+        raise FileFormatError(paths.root, "already holds a run; pass resume=True to continue it")
+    paths.root.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(paths.config, yaml.safe_dump({"seed": seed, **config.to_dict()}))
+
+    total = config.generations
+    last_eval: Evaluation | None = None
+    last_genomes: list[Genome] = []
+    labels: list[int] = []
+    try:
+        done = 0
+        while run.generation < total and (stop_after is None or done < stop_after):
+            t0 = time.perf_counter()
+            stage, mode, stage_end = run.stage_of(run.generation)
+            genomes = run.evolution.ask()
+            evaluation = evaluator.evaluate(genomes)
+            stats = run.evolution.tell(evaluation.objectives, mode=mode)
+            labels = list(stats.labels)
+            if stage_end and mode == "multi":
+                # stage 1 -> 2: keep the Pareto set, then seed stage 2 from the best by F
+                write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, stage))
+                keep = max(1, math.ceil(config.stage2_seed_fraction * len(genomes)))
+                order = np.argsort(-evaluation.objectives[:, 0], kind="stable")[:keep]
+                run.evolution.reseed([genomes[int(i)] for i in order])
+            complexity = np.array([flops_ratio(g) for g in genomes])
+            best = int(np.argmax(evaluation.objectives[:, 0]))
+            sizes = stats.niche_sizes
+            record = GenerationRecord(
+                generation=run.generation,
+                stage=stage,
+                mode=mode,
+                evaluations=(run.generation + 1) * len(genomes),
+                best_F=float(evaluation.objectives[best, 0]),
+                mean_F=float(evaluation.objectives[:, 0].mean()),
+                best_G=float(evaluation.objectives[:, 1].max()),
+                mean_G=float(evaluation.objectives[:, 1].mean()),
+                species=len(sizes),
+                largest_niche_share=max(sizes.values()) / max(1, sum(sizes.values())),
+                niche_sizes=dict(sizes),
+                best_success_rate=float(evaluation.success_rate[best]),
+                mean_complexity=float(complexity.mean()),
+                best_complexity=float(complexity[best]),
+                seconds=time.perf_counter() - t0,
+            )
+            run.history.append(record)
+            run.generation += 1
+            done += 1
+            write_json_atomic(paths.checkpoint, run.to_state())
+            write_text_atomic(paths.history, history_csv(run.history))
+            last_eval, last_genomes = evaluation, genomes
+            for callback in callbacks:
+                callback(record)
+    finally:
+        if own_evaluator:
+            evaluator.close()
+
+    best_genome, best_obj = run.evolution.best()
+    if run.generation >= total:
+        save_genome(
+            best_genome,
+            paths.best_genome,
+            metadata={
+                "robot": config.robot,
+                # what the network was trained with (the evaluator's problem), for planners
+                "input_encoding": problem.profile.input_encoding,
+                "heading_change_max": problem.profile.heading_change_max,
+                "step_max": problem.profile.step_max,
+                "step_min": problem.profile.step_min,
+                "clearance_margin": problem.profile.clearance_margin,
+                "sensors": sensor_record(problem.profile),
+                "framework": config.framework,
+                "seed": seed,
+                "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),
+            },
+        )
+        if last_eval is not None:
+            write_json_atomic(paths.population, population_json(last_genomes, last_eval, labels))
+            if config.framework == "single":
+                write_json_atomic(paths.pareto, pareto_json(last_genomes, last_eval, 0))
+    return TrainResult(
+        paths=paths,
+        history=list(run.history),
+        best_genome=best_genome,
+        best_objectives=(float(best_obj[0]), float(best_obj[1]) if len(best_obj) > 1 else 0.0),
+    )
+
+
+__all__ = ["Callback", "TrainResult", "make_problem", "train"]

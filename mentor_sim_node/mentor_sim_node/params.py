@@ -1,0 +1,202 @@
+"""The simulator node's parameters: declared read-only (descriptions, ranges), then checked.
+
+:func:`declare_parameters` declares them on the node and returns them checked
+(:func:`check_parameters`, which needs no node) as :class:`SimParameters`; then it declares
+every robot's mount layout (``<ns>.profile``, ``<ns>.sensor_x``, ...), for tools that need
+the sensor geometry a LaserScan cannot carry. See ``docs/ros.md`` for the table.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.node import Node
+
+from mentor_core import MentorError, RobotProfile, SessionConfig, get_profile
+
+
+class SimSetupError(MentorError):
+    """A parameter of the simulator node is invalid (one line)."""
+
+
+@dataclass(frozen=True)
+class SimParameters:
+    """The checked parameters: the scenario source and the session settings."""
+
+    world: str
+    scenario_bag: str
+    seed: int
+    session: SessionConfig
+
+
+def _descriptor(text: str, **extra: Any) -> ParameterDescriptor:
+    return ParameterDescriptor(description=text, read_only=True, **extra)
+
+
+def _at_least(low: float) -> list[FloatingPointRange]:
+    return [FloatingPointRange(from_value=low, to_value=1e9, step=0.0)]
+
+
+def _count() -> list[IntegerRange]:
+    return [IntegerRange(from_value=0, to_value=1_000_000, step=1)]
+
+
+def _declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
+    return [
+        ("robots", ["robot_0"], _descriptor("robot namespaces, one robot each")),
+        (
+            "profiles",
+            ["ugv"],
+            _descriptor("robot profile per robot (one entry: the same for all)"),
+        ),
+        ("world", "", _descriptor("world file (YAML) with scenarios")),
+        ("scenario_bag", "", _descriptor("scenario bag (instead of a world file)")),
+        ("seed", 0, _descriptor("seed of the training scenarios used without a file")),
+        (
+            "first_scenario",
+            0,
+            _descriptor("offset of the first scenario handed out", integer_range=_count()),
+        ),
+        (
+            "episodes",
+            0,
+            _descriptor("episodes to run, then stop (0: no limit)", integer_range=_count()),
+        ),
+        (
+            "auto_advance",
+            True,
+            _descriptor("start the next scenario when an episode ends (else: ~/reset)"),
+        ),
+        (
+            "time_limit",
+            0.0,
+            _descriptor(
+                "episode time limit, s (0: the profile's time budget T_tot)",
+                floating_point_range=_at_least(0.0),
+            ),
+        ),
+        (
+            "real_time_factor",
+            0.0,
+            _descriptor(
+                "sim seconds per wall second (0: as fast as the planners answer)",
+                floating_point_range=_at_least(0.0),
+            ),
+        ),
+        (
+            "answer_timeout",
+            0.0,
+            _descriptor(
+                "wall s to wait for a cmd_vel before the robot holds still (0: wait)",
+                floating_point_range=_at_least(0.0),
+            ),
+        ),
+        (
+            "resend_period",
+            0.1,
+            _descriptor(
+                "wall s after which an unanswered observation is published again",
+                floating_point_range=_at_least(0.001),
+            ),
+        ),
+        ("record", "", _descriptor("episode bag to write everything into ('' : none)")),
+        (
+            "record_metadata",
+            "{}",
+            _descriptor("JSON object added to the recording's metadata (e.g. genomes)"),
+        ),
+    ]
+
+
+def _is_relative_name(name: str) -> bool:
+    return bool(name) and not name.startswith("/") and all(
+        part and part[0].isalpha() and part.replace("_", "").isalnum()
+        for part in name.split("/")
+    )
+
+
+def check_parameters(values: Mapping[str, Any], node_name: str) -> SimParameters:
+    """The parameters ``values`` (name -> value, all of them) checked; ``node_name`` goes
+    into the recording's metadata. SimSetupError (MentorError for an unknown profile)."""
+    names = [str(n) for n in values["robots"]]
+    profiles = [str(p) for p in values["profiles"]]
+    if not names or len(set(names)) != len(names):
+        raise SimSetupError(f"robots: need distinct robot names, got {names}")
+    for n in names:
+        if not _is_relative_name(n):
+            raise SimSetupError(f"robots: {n!r} is not a relative ROS name like 'robot_0'")
+    if len(profiles) == 1:
+        profiles = profiles * len(names)
+    if len(profiles) != len(names):
+        raise SimSetupError(
+            f"profiles: {len(profiles)} given for {len(names)} robots (give 1 or one each)"
+        )
+    robots = tuple((n, get_profile(p)) for n, p in zip(names, profiles, strict=True))
+    periods = {profile.control_period for _, profile in robots}
+    if len(periods) != 1:
+        raise SimSetupError(f"profiles: robots decide at different periods {sorted(periods)}")
+    record = str(values["record"])
+    if record and len({profile.name for _, profile in robots}) != 1:
+        raise SimSetupError("record: an episode bag holds robots of one profile only")
+    try:
+        note = json.loads(str(values["record_metadata"]))
+    except json.JSONDecodeError as err:
+        raise SimSetupError(f"record_metadata: not JSON ({err.msg})") from None
+    if not isinstance(note, dict):
+        raise SimSetupError("record_metadata: not a JSON object")
+    limit = float(values["time_limit"])
+    rtf = float(values["real_time_factor"])
+    session = SessionConfig(
+        robots=robots,
+        first_scenario=int(values["first_scenario"]),
+        time_limit=limit if limit > 0.0 else None,
+        episodes=int(values["episodes"]),
+        auto_advance=bool(values["auto_advance"]),
+        real_time_factor=rtf,
+        answer_timeout=float(values["answer_timeout"]),
+        resend_period=float(values["resend_period"]),
+        record=record,
+        record_metadata={**note, "node": node_name, "real_time_factor": rtf},
+    )
+    return SimParameters(
+        str(values["world"]), str(values["scenario_bag"]), int(values["seed"]), session
+    )
+
+
+def declare_parameters(node: Node, node_name: str) -> SimParameters:
+    """Declare the node's parameters, check them, declare each robot's mount layout."""
+    declared = node.declare_parameters("", _declarations())
+    checked = check_parameters({p.name: p.value for p in declared}, node_name)
+    for name, profile in checked.session.robots:
+        _declare_layout(node, name, profile)
+    return checked
+
+
+def _declare_layout(node: Node, name: str, profile: RobotProfile) -> None:
+    key = name.replace("/", ".")
+    node.declare_parameters(
+        "",
+        [
+            (f"{key}.profile", profile.name, _descriptor("robot profile")),
+            (
+                f"{key}.sensor_x",
+                [m.x for m in profile.sensors],
+                _descriptor("sensor mount x in the body frame, m (scan order)"),
+            ),
+            (
+                f"{key}.sensor_y",
+                [m.y for m in profile.sensors],
+                _descriptor("sensor mount y in the body frame, m (scan order)"),
+            ),
+            (
+                f"{key}.sensor_angle",
+                [m.angle for m in profile.sensors],
+                _descriptor("sensor facing angle in the body frame, rad (scan order)"),
+            ),
+            (f"{key}.sensor_range", profile.sensor_range, _descriptor("range, m")),
+        ],
+    )
