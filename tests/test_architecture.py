@@ -17,7 +17,10 @@ import mentor_core
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "mentor_core" / "src"
 LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
-WINGS = ("evolution", "sim", "objectives", "files", "training", "runtime", "report", "cli")
+WINGS = (
+    "evolution", "sim", "objectives", "files", "navigation", "training", "runtime", "benchmark",
+    "report", "cli",
+)
 
 
 def _lint_imports(tree: Path) -> subprocess.CompletedProcess[str]:
