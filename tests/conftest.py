@@ -3,8 +3,9 @@
 ROS 2 isolation: DDS discovery must never leave the loopback, and parallel test workers must
 never see each other's nodes. This is set here, at import time, before any test module can
 call ``rclpy.init``: ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` and a ``ROS_DOMAIN_ID`` of
-60 + the pytest-xdist worker number (60 without xdist). Subprocesses started by tests inherit
-both; :func:`ros_env` gives a copy of that environment for them.
+60 + the pytest-xdist worker number (60 without xdist; ``MENTOR_TEST_ROS_DOMAIN_BASE`` moves
+the base, so that two checkouts can run their ROS tests at once). Subprocesses started by tests
+inherit both; :func:`ros_env` gives a copy of that environment for them.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from typing import Any
 
 import pytest
 
-ROS_DOMAIN_BASE = 60
+ROS_DOMAIN_BASE = int(os.environ.get("MENTOR_TEST_ROS_DOMAIN_BASE", "60"))
 
 
 def _worker_number() -> int:
