@@ -16,7 +16,7 @@ for fw in single dual; do
   run="$OUT/swarm-$fw"
   # a finished run is kept; an interrupted one continues where it stopped
   resume=()
-  [ -f "$run/checkpoint.json" ] && resume=(--resume)
+  [ -n "$(ls -A "$run" 2>/dev/null)" ] && resume=(--resume)
   echo "== training the Swarm-Robot planner, $fw-stage (quick config)" >&2
   if ! "$BIN/mentor-train" --robot swarm --framework "$fw" --config quick --seed "$SEED" \
     --out "$run" "${resume[@]}"; then

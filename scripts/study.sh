@@ -15,7 +15,7 @@ BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
 train_one() {  # robot framework seed
   local run="$OUT/$1-$2-s$3" resume=()
-  [ -f "$run/checkpoint.json" ] && resume=(--resume)
+  [ -n "$(ls -A "$run" 2>/dev/null)" ] && resume=(--resume)
   "$BIN/mentor-train" --robot "$1" --framework "$2" --config paper --seed "$3" --out "$run" \
     --quiet "${resume[@]}" && echo "study: trained $run" >&2
 }

@@ -106,7 +106,7 @@ def test_resume_ends_identical_to_an_unbroken_run(dual_run: Path, tmp_path: Path
 
 def test_existing_run_is_not_overwritten_without_resume(dual_run: Path) -> None:
     before = (dual_run / "history.csv").read_text()
-    with pytest.raises(FileFormatError, match="already holds a run"):
+    with pytest.raises(FileFormatError, match="already holds a finished run"):
         train(tiny(), dual_run, seed=3)
     assert (dual_run / "history.csv").read_text() == before
 
@@ -225,3 +225,22 @@ def test_a_runs_config_yaml_trains_the_run_again(
     bad.write_text((dual_run / "config.yaml").read_text().replace("seed: 3", "seed: three"))
     assert train_cli.main([*argv[:-2], str(bad), "--out", str(tmp_path / "bad")]) == 2
     assert "bad.yaml: seed: must be a whole number" in capsys.readouterr().err
+
+
+def test_train_in_a_directory_the_caller_opened(dual_run: Path, tmp_path: Path) -> None:
+    """mentor-train opens (locks) the run directory before its workers start and hands it to
+    train; the directory then says whether it is a resume."""
+    from mentor_core.training.run_directory import open_run
+
+    with pytest.raises(FileFormatError, match="nothing to resume: no such directory"):
+        train(tiny(), tmp_path / "none", seed=3, resume=True)
+    with open_run(tmp_path / "run", resume=False) as run_dir:
+        with pytest.raises(ValueError, match="resume"):
+            train(tiny(), run_dir, seed=3, resume=True)
+        result = train(tiny(), run_dir, seed=3)
+        assert (tmp_path / "run" / "train.lock").exists()
+    assert not (tmp_path / "run" / "train.lock").exists()
+    assert result.generations_run == 4 and result.rebuilt == ()
+    assert without_seconds(history_rows(tmp_path / "run")) == without_seconds(
+        history_rows(dual_run)
+    )

@@ -1,7 +1,7 @@
 """``mentor-train``: train a MENTOR planner (single- or dual-stage) into a run directory.
 
     mentor-train --robot swarm --framework dual --config quick --seed 1 --out runs/swarm-dual
-    mentor-train ... --resume          # continue a killed run; ends identical to an unbroken one
+    mentor-train ... --resume          # continue a stopped run; ends identical to an unbroken one
     mentor-train ... --workers 2       # local process pool; --ray auto | ADDRESS for Ray
 
 ``--config`` takes a YAML file or the name of a shipped config (``quick``, ``paper``). A run
@@ -21,6 +21,7 @@ from typing import TextIO
 from mentor_core.errors import MentorError
 from mentor_core.training.config import TrainerConfig, load_config_file
 from mentor_core.training.evaluators import make_evaluator
+from mentor_core.training.run_directory import open_run
 from mentor_core.training.run_files import GenerationRecord
 from mentor_core.training.trainer import make_problem, train
 
@@ -82,7 +83,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="evolution seed (default: the config file's seed, as in a run's "
                         "config.yaml, else 0)")
     p.add_argument("--out", required=True, type=Path, help="run directory")
-    p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--resume", action="store_true",
+                   help="continue the run in --out (stopped anywhere: ends as an unbroken run; "
+                        "docs/runs.md)")
     p.add_argument("--workers", type=int, default=None,
                    help="local worker processes (default: in process); with --ray, the CPUs "
                         "of a local Ray and the chunks per generation (default: all)")
@@ -100,21 +103,24 @@ def main(argv: list[str] | None = None) -> int:
             args.seed = 0 if saved_seed is None else saved_seed
         problem = make_problem(config, source=args.config or "paper")
         callbacks = [] if args.quiet else [ProgressPrinter(config.generations)]
-        print(
-            f"mentor-train: {config.robot} {config.framework}-stage, "
-            f"{config.evolution.population_size} genomes x {config.generations} generations, "
-            f"{len(problem.scenarios)} scenarios, seed {args.seed} -> {args.out}",
-            file=sys.stderr,
-        )
-        with make_evaluator(problem, args.workers, args.ray) as evaluator:
-            result = train(
-                config,
-                args.out,
-                seed=args.seed,
-                evaluator=evaluator,
-                resume=args.resume,
-                callbacks=callbacks,
+        # the run directory first: a second writer is refused before any worker starts
+        with open_run(args.out, resume=args.resume) as run_dir:
+            print(
+                f"mentor-train: {config.robot} {config.framework}-stage, "
+                f"{config.evolution.population_size} genomes x {config.generations} "
+                f"generations, {len(problem.scenarios)} scenarios, seed {args.seed} -> "
+                f"{args.out}",
+                file=sys.stderr,
             )
+            with make_evaluator(problem, args.workers, args.ray) as evaluator:
+                result = train(
+                    config,
+                    run_dir,
+                    seed=args.seed,
+                    evaluator=evaluator,
+                    resume=args.resume,
+                    callbacks=callbacks,
+                )
     except KeyboardInterrupt:
         print(f"mentor-train: interrupted; continue with --resume --out {args.out}",
               file=sys.stderr)
@@ -122,6 +128,11 @@ def main(argv: list[str] | None = None) -> int:
     except (MentorError, OSError) as err:
         print(f"mentor-train: {err}", file=sys.stderr)
         return 2
+    if result.rebuilt:
+        names = ", ".join(p.name for p in result.rebuilt)
+        print(f"mentor-train: wrote the finished run's {names} again", file=sys.stderr)
+    elif result.generations_run == 0:
+        print(f"mentor-train: {args.out} holds a finished run; nothing to do", file=sys.stderr)
     f, g = result.best_objectives
     print(f"mentor-train: best F {f:.3f} (G {g:.3f}); genome {result.paths.best_genome}",
           file=sys.stderr)

@@ -5,7 +5,8 @@ state), ``history.csv`` (one :class:`GenerationRecord` per generation, columns
 :data:`HISTORY_FIELDS`), ``population.json`` (``mentor-population``: the final population),
 ``pareto.json`` (``mentor-pareto``: the non-dominated set by (F, G) of dual stage 1's last
 population, or of the single-stage framework's final one) and ``best_genome.json``
-(:mod:`mentor_core.files.genome_file`). :mod:`mentor_core.training.trainer` writes them.
+(:mod:`mentor_core.files.genome_file`). :mod:`mentor_core.training.trainer` writes them, as
+one writer (:mod:`mentor_core.training.run_directory`).
 """
 
 from __future__ import annotations
@@ -63,6 +64,14 @@ class RunPaths:
     @property
     def best_genome(self) -> Path:
         return self.root / "best_genome.json"
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file a run writes here (besides the lock the writer holds)."""
+        return (
+            self.config, self.checkpoint, self.history, self.population, self.pareto,
+            self.best_genome,
+        )  # fmt: skip
 
 
 @dataclass(frozen=True)

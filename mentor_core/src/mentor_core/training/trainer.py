@@ -8,8 +8,9 @@
 Both frameworks see the same scenarios and the same number of evaluations (population size x
 generations), so their histories share one axis. A run is a directory (see
 :class:`~mentor_core.training.run_files.RunPaths`); a checkpoint is written atomically after
-every generation and ``resume=True`` continues from it, ending identical to an unbroken run with
-the same seed.
+every generation and ``resume`` (``mentor-train --resume``) continues from it, ending identical
+to an unbroken run with the same seed. A run directory has one writer at a time
+(:mod:`mentor_core.training.run_directory`; ``docs/runs.md``).
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from mentor_core.sim.scenarios import DoEConfig, training_scenarios
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.evaluators import Evaluator, InProcessEvaluator
 from mentor_core.training.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
+from mentor_core.training.run_directory import RunDirectory, open_run
 from mentor_core.training.run_files import (
     GenerationRecord,
     RunPaths,
@@ -62,6 +64,8 @@ class TrainResult:
     history: list[GenerationRecord]
     best_genome: Genome
     best_objectives: tuple[float, float]
+    generations_run: int = 0  # by this call (0: the run was finished already)
+    rebuilt: tuple[Path, ...] = ()  # final files a finished run lacked, written again
 
 
 Callback = Callable[[GenerationRecord], None]
@@ -132,8 +136,8 @@ class _Run:
             "history": history_csv(self.history),
         }
 
-    def load_state(self, state: dict[str, Any], path: Path) -> None:
-        if state.get("format") != CHECKPOINT_FORMAT:
+    def load_state(self, state: Any, path: Path) -> None:
+        if not isinstance(state, dict) or state.get("format") != CHECKPOINT_FORMAT:
             raise FileFormatError(path, f"not a {CHECKPOINT_FORMAT} file")
         if not is_version(state.get("version"), CHECKPOINT_VERSION):
             raise FileFormatError(path, f"unsupported version {state.get('version')!r}")
@@ -154,7 +158,7 @@ class _Run:
 
 def train(
     config: TrainerConfig,
-    out_dir: str | Path,
+    out_dir: str | Path | RunDirectory,
     *,
     seed: int = 0,
     evaluator: Evaluator | None = None,
@@ -167,33 +171,54 @@ def train(
     Steps per generation: ask the evolution for its population; evaluate it (F, G); tell the
     evolution (ranking by (F, G) in stage 1 of dual-stage, by F otherwise), which speciates,
     sizes the niches and breeds; at the end of dual stage 1, reseed from its best by F;
-    record the history row; write the checkpoint atomically; call the callbacks.
+    record the history row; write the history, after the last generation the final files, and
+    the checkpoint, each atomically; call the callbacks.
+
+    ``out_dir`` is opened with :func:`~mentor_core.training.run_directory.open_run` (locked
+    for the whole run; ``resume`` continues the run in it), unless it is a directory opened
+    so already (then with the same ``resume``; the caller closes it). The final files come
+    before the final checkpoint, so a run interrupted anywhere completes on ``resume``; a
+    finished run is left as it is, and one whose final files are missing (written by an
+    older version, or deleted) gets them again from its final checkpoint.
     """
-    paths = RunPaths(Path(out_dir))
     problem = evaluator.problem if evaluator is not None else make_problem(config)
+    if isinstance(out_dir, RunDirectory):
+        if out_dir.resume != resume:
+            raise ValueError(f"resume={resume} but the run directory was opened otherwise")
+        return _train(config, out_dir, seed, problem, evaluator, callbacks, stop_after)
+    with open_run(out_dir, resume=resume) as run_dir:
+        return _train(config, run_dir, seed, problem, evaluator, callbacks, stop_after)
+
+
+def _train(
+    config: TrainerConfig,
+    run_dir: RunDirectory,
+    seed: int,
+    problem: NavigationProblem,
+    evaluator: Evaluator | None,
+    callbacks: Sequence[Callback],
+    stop_after: int | None,
+) -> TrainResult:
+    """:func:`train` in an opened run directory."""
+    paths = run_dir.paths
+    run = _Run(config, seed, problem)
+    config_text = yaml.safe_dump({"seed": seed, **config.to_dict()})
+    if paths.checkpoint.exists():  # open_run lets only a resume come this far
+        run.load_state(load_json(paths.checkpoint), paths.checkpoint)
+    elif paths.config.exists():  # stopped before its first checkpoint: start it again
+        _check_config_file(paths.config, config_text)
+    _write_text_if_changed(paths.config, config_text)
     own_evaluator = evaluator is None
     evaluator = evaluator or InProcessEvaluator(problem)
-    run = _Run(config, seed, problem)
-    if resume and paths.checkpoint.exists():
-        run.load_state(load_json(paths.checkpoint), paths.checkpoint)
-    elif paths.checkpoint.exists():
-        raise FileFormatError(paths.root, "already holds a run; pass resume=True to continue it")
-    paths.root.mkdir(parents=True, exist_ok=True)
-    write_text_atomic(paths.config, yaml.safe_dump({"seed": seed, **config.to_dict()}))
-
     total = config.generations
-    last_eval: Evaluation | None = None
-    last_genomes: list[Genome] = []
-    labels: list[int] = []
+    done = 0
     try:
-        done = 0
         while run.generation < total and (stop_after is None or done < stop_after):
             t0 = time.perf_counter()
             stage, mode, stage_end = run.stage_of(run.generation)
             genomes = run.evolution.ask()
             evaluation = evaluator.evaluate(genomes)
             stats = run.evolution.tell(evaluation.objectives, mode=mode)
-            labels = list(stats.labels)
             if stage_end and mode == "multi":
                 # stage 1 -> 2: keep the Pareto set, then seed stage 2 from the best by F
                 write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, stage))
@@ -223,44 +248,111 @@ def train(
             run.history.append(record)
             run.generation += 1
             done += 1
-            write_json_atomic(paths.checkpoint, run.to_state())
+            # everything of this generation before its checkpoint: a run stopped in between
+            # runs the generation again on resume and writes the same files again
             write_text_atomic(paths.history, history_csv(run.history))
-            last_eval, last_genomes = evaluation, genomes
+            if run.generation == total:
+                _write_final_files(run, paths, genomes, evaluation, list(stats.labels))
+            write_json_atomic(paths.checkpoint, run.to_state())
             for callback in callbacks:
                 callback(record)
+        rebuilt = _complete(run, paths, evaluator) if run.generation >= total else ()
     finally:
         if own_evaluator:
             evaluator.close()
 
     best_genome, best_obj = run.evolution.best()
-    if run.generation >= total:
-        save_genome(
-            best_genome,
-            paths.best_genome,
-            metadata={
-                "robot": config.robot,
-                # what the network was trained with (the evaluator's problem), for planners
-                "input_encoding": problem.profile.input_encoding,
-                "heading_change_max": problem.profile.heading_change_max,
-                "step_max": problem.profile.step_max,
-                "step_min": problem.profile.step_min,
-                "clearance_margin": problem.profile.clearance_margin,
-                "sensors": sensor_record(problem.profile),
-                "framework": config.framework,
-                "seed": seed,
-                "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),
-            },
-        )
-        if last_eval is not None:
-            write_json_atomic(paths.population, population_json(last_genomes, last_eval, labels))
-            if config.framework == "single":
-                write_json_atomic(paths.pareto, pareto_json(last_genomes, last_eval, 0))
     return TrainResult(
         paths=paths,
         history=list(run.history),
         best_genome=best_genome,
         best_objectives=(float(best_obj[0]), float(best_obj[1]) if len(best_obj) > 1 else 0.0),
+        generations_run=done,
+        rebuilt=rebuilt,
     )
+
+
+def _write_final_files(
+    run: _Run,
+    paths: RunPaths,
+    genomes: Sequence[Genome],
+    evaluation: Evaluation,
+    labels: Sequence[int],
+) -> None:
+    """The final population (``genomes`` as evaluated), the single-stage Pareto set and the
+    best genome with its metadata."""
+    config, profile = run.config, run.problem.profile
+    write_json_atomic(paths.population, population_json(genomes, evaluation, labels))
+    if config.framework == "single":
+        write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, 0))
+    best_genome, best_obj = run.evolution.best()
+    save_genome(
+        best_genome,
+        paths.best_genome,
+        metadata={
+            "robot": config.robot,
+            # what the network was trained with (the evaluator's problem), for planners
+            "input_encoding": profile.input_encoding,
+            "heading_change_max": profile.heading_change_max,
+            "step_max": profile.step_max,
+            "step_min": profile.step_min,
+            "clearance_margin": profile.clearance_margin,
+            "sensors": sensor_record(profile),
+            "framework": config.framework,
+            "seed": run.seed,
+            "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),
+        },
+    )
+
+
+def _complete(run: _Run, paths: RunPaths, evaluator: Evaluator) -> tuple[Path, ...]:
+    """Write what a finished run lacks (a history without its last rows, missing final files:
+    a run stopped in its final writes by an older version, or files deleted since); returns
+    the files written. The final population is evaluated again for its success and collision
+    rates, which the checkpoint does not hold; its objectives must come out as it holds them.
+    """
+    rebuilt = []
+    if _write_text_if_changed(paths.history, history_csv(run.history)):
+        rebuilt.append(paths.history)
+    finals = [paths.population, paths.best_genome]
+    finals += [paths.pareto] if run.config.framework == "single" else []
+    missing = [p for p in finals if not p.exists()]
+    if missing:
+        genomes, labels = run.evolution.evaluated_population, run.evolution.labels
+        evaluation = evaluator.evaluate(genomes)
+        saved = run.evolution.evaluated_objectives
+        if labels is None or saved is None or not np.array_equal(evaluation.objectives, saved):
+            raise FileFormatError(
+                paths.checkpoint,
+                "its final population evaluates otherwise now; cannot write "
+                f"{', '.join(p.name for p in missing)} again",
+            )
+        _write_final_files(run, paths, genomes, evaluation, labels.tolist())
+        rebuilt += missing
+    return tuple(rebuilt)
+
+
+def _check_config_file(path: Path, expected_text: str) -> None:
+    """Refuse to start again a run whose ``config.yaml`` names another config or seed."""
+    try:
+        saved = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as err:
+        raise FileFormatError(path, f"unreadable ({one_line(err)})") from None
+    if not isinstance(saved, dict) or {**_CONFIG_KEYS_ADDED, **saved} != yaml.safe_load(
+        expected_text
+    ):
+        raise FileFormatError(path, "was written by a run of a different config or seed")
+
+
+def _write_text_if_changed(path: Path, text: str) -> bool:
+    """Write ``text`` to ``path`` atomically unless it holds it already; whether it wrote."""
+    try:
+        if path.read_text(encoding="utf-8") == text:
+            return False
+    except (FileNotFoundError, UnicodeDecodeError):
+        pass
+    write_text_atomic(path, text)
+    return True
 
 
 __all__ = ["Callback", "TrainResult", "make_problem", "train"]
