@@ -50,7 +50,7 @@ def start(name: str, problem: NavigationProblem, workers: int) -> Evaluator:
     if name == "pool":
         return PoolEvaluator(problem, workers)
     if name == "ray":
-        return RayEvaluator(problem, "auto", workers)
+        return RayEvaluator(problem, "local", workers)
     raise SystemExit(f"unknown backend {name!r}")
 
 

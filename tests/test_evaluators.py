@@ -2,17 +2,20 @@
 
 The Ray tests start one local Ray (2 CPUs, a few seconds) shared by the module's Ray tests;
 they are skipped only when ``ray`` cannot be imported (it is in requirements.lock and the
-``ray`` extra of mentor-core).
+``ray`` extra of mentor-core). What the Ray addresses mean to ``ray.init`` is checked on a
+stand-in for Ray here, and on a real ``ray start --head`` cluster in test_ray_cluster.py.
 """
 
 from __future__ import annotations
 
 import csv
 import importlib
+import socket
 import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -85,7 +88,7 @@ def ray_evaluator(problem: NavigationProblem) -> Iterator[RayEvaluator]:
     import ray
 
     assert not ray.is_initialized()
-    evaluator = RayEvaluator(problem, "auto", workers=2)
+    evaluator = RayEvaluator(problem, "local", workers=2)
     yield evaluator
     evaluator.close()
     assert not ray.is_initialized(), "close() must shut down the Ray it started"
@@ -123,6 +126,8 @@ def test_ray_is_bit_identical_to_in_process(
     ray_evaluator: RayEvaluator, genomes: list[Genome], serial: Evaluation
 ) -> None:
     assert ray_evaluator.workers == 2
+    assert ray_evaluator.describe().startswith("a private local Ray at ")
+    assert ray_evaluator.describe().endswith("(1 node, 2 CPUs), 2 tasks a generation")
     assert_same(ray_evaluator.evaluate(genomes), serial)
     assert ray_evaluator.evaluate([]).objectives.shape == (0, 2)
 
@@ -148,6 +153,7 @@ def test_a_running_ray_is_used_and_left_running(
     guest = make_evaluator(problem, ray_address="auto")  # Ray already runs: joins it
     assert isinstance(guest, RayEvaluator)
     assert guest.workers == 2  # the CPUs of the running Ray
+    assert guest.describe().startswith("the Ray runtime of this process at ")
     assert_same(guest.evaluate(genomes), serial)
     guest.close()
     assert ray.is_initialized(), "close() must not shut down a Ray it did not start"
@@ -229,3 +235,100 @@ def test_cli_reports_an_unreachable_cluster_in_one_line(tmp_path: Path) -> None:
     last = proc.stderr.strip().splitlines()[-1]
     assert last.startswith("mentor-train: Ray cluster at 127.0.0.1:1 is unreachable"), proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+class FakeRay:
+    """A stand-in for the ray module: records ray.init's arguments, or raises ``error``."""
+
+    def __init__(self, error: Exception | None = None) -> None:
+        self.error = error
+        self.inits: list[dict[str, Any]] = []
+        self.up = False
+
+    def is_initialized(self) -> bool:
+        return self.up
+
+    def init(self, **kwargs: Any) -> None:
+        self.inits.append(kwargs)
+        if self.error is not None:
+            raise self.error
+        self.up = True
+
+    def shutdown(self) -> None:
+        self.up = False
+
+    def cluster_resources(self) -> dict[str, float]:
+        return {"CPU": 4.0}
+
+    def nodes(self) -> list[dict[str, Any]]:
+        return [{"Alive": True}, {"Alive": True}, {"Alive": False}]
+
+    def get_runtime_context(self) -> Any:
+        return type("Context", (), {"gcs_address": "10.0.0.5:6379"})()
+
+    def put(self, value: object) -> object:
+        return value
+
+    def remote(self, function: object) -> object:
+        return function
+
+
+@pytest.fixture
+def fake_ray(monkeypatch: pytest.MonkeyPatch) -> FakeRay:
+    fake = FakeRay()
+    monkeypatch.setitem(sys.modules, "ray", fake)
+    return fake
+
+
+def test_ray_addresses_mean_what_they_mean_to_ray(
+    problem: NavigationProblem, fake_ray: FakeRay
+) -> None:
+    with make_evaluator(problem, 3, "local") as local:
+        # a private runtime, never one found through RAY_ADDRESS or /tmp/ray
+        assert fake_ray.inits[-1]["address"] == "local"
+        assert fake_ray.inits[-1]["num_cpus"] == 3
+        assert local.describe() == (
+            "a private local Ray at 10.0.0.5:6379 (2 nodes, 4 CPUs), 3 tasks a generation"
+        )
+    assert not fake_ray.up, "close() shuts down the Ray it started"
+    with make_evaluator(problem, ray_address="auto") as joined:
+        assert fake_ray.inits[-1]["address"] == "auto"  # Ray's own meaning, Ray's own search
+        assert "num_cpus" not in fake_ray.inits[-1]
+        assert joined.describe() == (
+            "the Ray cluster at 10.0.0.5:6379 (2 nodes, 4 CPUs), 4 tasks a generation"
+        )
+    with socket.create_server(("127.0.0.1", 0)) as head:
+        address = f"127.0.0.1:{head.getsockname()[1]}"
+        with make_evaluator(problem, ray_address=address):
+            assert fake_ray.inits[-1]["address"] == address
+
+
+def test_auto_without_a_cluster_is_one_clear_error(
+    problem: NavigationProblem, fake_ray: FakeRay
+) -> None:
+    # Ray's words when it finds nothing
+    fake_ray.error = ConnectionError(
+        "Could not find any running Ray instance. Please specify the one to connect to by "
+        "setting `--address` flag or `RAY_ADDRESS` environment variable."
+    )
+    with pytest.raises(BackendError) as info:
+        make_evaluator(problem, ray_address="auto")
+    message = str(info.value)
+    assert message.startswith("Ray address 'auto' found no running Ray cluster")
+    assert "RAY_ADDRESS" in message and "ray start --head" in message and "'local'" in message
+    assert "\n" not in message
+
+
+def test_a_failed_join_keeps_rays_reason(problem: NavigationProblem, fake_ray: FakeRay) -> None:
+    # Ray's shape: a one-line ConnectionError raised from the reason, in a traceback's text
+    err = ConnectionError("Failed to connect to Ray cluster at 10.0.0.5:6379")
+    err.__cause__ = RuntimeError("Failed to connect to GCS.\nTraceback ...\nVersionMismatch: 2.9")
+    fake_ray.error = err
+    with socket.create_server(("127.0.0.1", 0)) as head:
+        address = f"127.0.0.1:{head.getsockname()[1]}"
+        with pytest.raises(BackendError) as info:
+            make_evaluator(problem, ray_address=address)
+    assert str(info.value) == (
+        f"cannot join Ray at {address}: Failed to connect to Ray cluster at 10.0.0.5:6379 "
+        "(VersionMismatch: 2.9)"
+    )

@@ -24,7 +24,8 @@ def pymoo_ranks(objectives: np.ndarray) -> np.ndarray:
 
 
 def pymoo_crowding(front_costs: np.ndarray) -> np.ndarray:
-    """Crowding of pymoo's NSGA-II survival ("cd": no duplicate filter, <= 2 points inf)."""
+    """Crowding of pymoo's NSGA-II survival ("cd": no duplicate filter, <= 2 points inf), on
+    costs (pymoo minimises)."""
     result: np.ndarray = get_crowding_function("cd").do(front_costs)
     return result
 
@@ -47,9 +48,11 @@ def assert_matches_pymoo(objectives: np.ndarray) -> None:
     ranks = non_dominated_ranks(objectives)
     np.testing.assert_array_equal(ranks, pymoo_ranks(objectives))
     for rank in np.unique(ranks):
-        front = -objectives[ranks == rank]
-        ours = crowding_distance(front)
-        np.testing.assert_array_equal(ours, pymoo_crowding(front))
+        front = objectives[ranks == rank]
+        np.testing.assert_array_equal(crowding_distance(front), pymoo_crowding(-front))
+        np.testing.assert_array_equal(
+            crowding_distance(-front, maximize=False), pymoo_crowding(-front)
+        )
     np.testing.assert_array_equal(scalar_fitness(objectives), pymoo_scalar_fitness(objectives))
 
 
@@ -115,10 +118,33 @@ def test_crowding_known_values_and_zero_range() -> None:
     np.testing.assert_array_equal(crowding_distance(np.ones((4, 2))), np.zeros(4))
 
 
-def test_crowding_duplicates_follow_stable_sort() -> None:
-    # the first of two equal minima is the boundary point, the second sits next to it
-    np.testing.assert_array_equal(crowding_distance([[0.0], [0.0], [1.0]]), [np.inf, 1.0, np.inf])
-    np.testing.assert_array_equal(crowding_distance([[1.0], [0.0], [0.0]]), [np.inf, np.inf, 1.0])
+def test_crowding_ties_follow_pymoo() -> None:
+    # pymoo sorts the costs (stable): of equal best values the first is the boundary point,
+    # of equal worst values the last
+    np.testing.assert_array_equal(crowding_distance([[1.0], [1.0], [0.0]]), [np.inf, 1.0, np.inf])
+    np.testing.assert_array_equal(crowding_distance([[1.0], [0.0], [0.0]]), [np.inf, 1.0, np.inf])
+    np.testing.assert_array_equal(crowding_distance([[0.0], [0.0], [1.0]]), [1.0, np.inf, np.inf])
+    # as costs (minimised) the same rule, the other way round
+    costs = np.array([[0.0], [0.0], [1.0]])
+    np.testing.assert_array_equal(crowding_distance(costs, maximize=False), [np.inf, 1.0, np.inf])
+    np.testing.assert_array_equal(crowding_distance(-costs), crowding_distance(costs, False))
+
+
+def test_crowding_of_random_integer_fronts_matches_pymoo() -> None:
+    """400 random integer fronts full of ties: every distance equals pymoo's on the negated
+    objectives (the promise of docs/architecture.md), in the max frame and as costs."""
+    rng = np.random.default_rng(2024)
+    tie_order_matters = 0
+    for _ in range(400):
+        n, m, top = int(rng.integers(3, 30)), int(rng.integers(1, 4)), int(rng.integers(1, 5))
+        front = rng.integers(0, top + 1, size=(n, m)).astype(float)
+        ours, as_costs = crowding_distance(front), crowding_distance(front, maximize=False)
+        np.testing.assert_array_equal(ours, pymoo_crowding(-front))
+        np.testing.assert_array_equal(as_costs, pymoo_crowding(front))
+        # the same matrix read as costs sorts its ties the other way
+        tie_order_matters += not np.array_equal(ours, as_costs)
+    # most fronts have duplicates whose order decides which one is the boundary point
+    assert tie_order_matters > 300
 
 
 def test_scalar_fitness_orders_rank_before_crowding() -> None:

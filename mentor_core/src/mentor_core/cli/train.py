@@ -2,7 +2,8 @@
 
     mentor-train --robot swarm --framework dual --config quick --seed 1 --out runs/swarm-dual
     mentor-train ... --resume          # continue a stopped run; ends identical to an unbroken one
-    mentor-train ... --workers 2       # local process pool; --ray auto | ADDRESS for Ray
+    mentor-train ... --workers 2       # local process pool (workers die with the run)
+    mentor-train ... --ray local       # a private local Ray; --ray auto or HOST:PORT: a cluster
 
 ``--config`` takes a YAML file or the name of a shipped config (``quick``, ``paper``). A run
 directory's ``config.yaml`` is such a file, with the run's seed: ``mentor-train --robot R
@@ -18,6 +19,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TextIO
 
+from mentor_core.cli.stopping import EXIT_SIGTERM, Terminated, sigterm_raises
 from mentor_core.errors import MentorError
 from mentor_core.training.config import TrainerConfig, load_config_file
 from mentor_core.training.evaluators import make_evaluator
@@ -89,7 +91,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, default=None,
                    help="local worker processes (default: in process); with --ray, the CPUs "
                         "of a local Ray and the chunks per generation (default: all)")
-    p.add_argument("--ray", metavar="ADDRESS", help="evaluate on Ray: 'auto' or a cluster address")
+    p.add_argument("--ray", metavar="ADDRESS",
+                   help="evaluate on Ray: 'local' (a private Ray on this machine), 'auto' (join "
+                        "the running cluster, as Ray finds it) or HOST:PORT (join that cluster)")
     p.add_argument("--quiet", action="store_true", help="no per-generation lines")
     return p
 
@@ -97,6 +101,20 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status."""
     args = build_parser().parse_args(argv)
+    with sigterm_raises():
+        return _run(args)
+
+
+def _stopped(args: argparse.Namespace) -> str:
+    """What an interrupted run stopped besides itself, for its last line."""
+    if args.ray == "local":
+        return "; the local Ray shut down"
+    if args.ray:
+        return "; left the Ray cluster"
+    return "; worker processes stopped" if (args.workers or 0) > 1 else ""
+
+
+def _run(args: argparse.Namespace) -> int:
     try:
         config, saved_seed = resolve_run(args.robot, args.framework, args.config)
         if args.seed is None:
@@ -113,6 +131,8 @@ def main(argv: list[str] | None = None) -> int:
                 file=sys.stderr,
             )
             with make_evaluator(problem, args.workers, args.ray) as evaluator:
+                if args.ray:
+                    print(f"mentor-train: evaluating on {evaluator.describe()}", file=sys.stderr)
                 result = train(
                     config,
                     run_dir,
@@ -121,10 +141,11 @@ def main(argv: list[str] | None = None) -> int:
                     resume=args.resume,
                     callbacks=callbacks,
                 )
-    except KeyboardInterrupt:
-        print(f"mentor-train: interrupted; continue with --resume --out {args.out}",
+    except KeyboardInterrupt as stop:
+        how = "terminated (SIGTERM)" if isinstance(stop, Terminated) else "interrupted"
+        print(f"mentor-train: {how}{_stopped(args)}; continue with --resume --out {args.out}",
               file=sys.stderr)
-        return 130
+        return EXIT_SIGTERM if isinstance(stop, Terminated) else 130
     except (MentorError, OSError) as err:
         print(f"mentor-train: {err}", file=sys.stderr)
         return 2

@@ -4,7 +4,8 @@ MENTOR (paper, section II "Speciation and Selection") adopts the elitist non-dom
 Deb et al. (NSGA-II) on a max-max problem: a genome's Pareto front comes first, its crowding
 distance inside that front second. Both agree exactly with pymoo 0.6.2 run on the negated
 objectives (pymoo minimises): the fronts of its fast non-dominated sort and the ``"cd"``
-crowding function of its rank-and-crowding survival.
+crowding function of its rank-and-crowding survival, ties included. Every function here takes
+the objectives as the problem states them, with ``maximize`` (default True) saying which way.
 """
 
 from __future__ import annotations
@@ -84,8 +85,8 @@ def non_dominated_ranks(objectives: ArrayLike, maximize: bool = True) -> np.ndar
     return ranks
 
 
-def crowding_distance(front_objectives: ArrayLike) -> np.ndarray:
-    """NSGA-II crowding distance of each point of one front, as pymoo's ``"cd"`` computes it.
+def crowding_distance(front_objectives: ArrayLike, maximize: bool = True) -> np.ndarray:
+    """NSGA-II crowding distance of each point of one front, exactly as pymoo's ``"cd"``.
 
     With the points sorted (stable) in objective o, point p's distance is
 
@@ -95,12 +96,18 @@ def crowding_distance(front_objectives: ArrayLike) -> np.ndarray:
     side (so boundary points get +inf). Rules copied from pymoo 0.6.2 so values are identical:
     a front of 1 or 2 points is all +inf; an objective with zero range contributes 0 to every
     point, its boundary points included; exact duplicates are not filtered, they sit next to
-    each other in the stable sort (first index first) with a gap of 0. The values are taken as
-    given (pymoo's minimisation frame): for maximised objectives pass the negated matrix to get
-    pymoo's tie order.
+    each other in the stable sort with a gap of 0.
+
+    Ties: pymoo minimises, sorting each objective's costs ascending with a stable sort, so of
+    duplicates at the *best* value the one with the lowest index is the boundary point (+inf)
+    and at the *worst* value the one with the highest index. Like :func:`non_dominated_ranks`,
+    this function takes the objectives as the problem states them and sorts the costs pymoo
+    sorts (``-objectives`` with ``maximize``), so it equals pymoo's ``"cd"`` on the negated
+    objectives, ties included (``tests/test_ranking.py``).
 
     Args:
         front_objectives: (k, m) objective values of the points of one front.
+        maximize: True for a max-max problem (the paper's), False when they are costs.
 
     Returns:
         (k,) float64 crowding distances, +inf for boundary points.
@@ -109,6 +116,8 @@ def crowding_distance(front_objectives: ArrayLike) -> np.ndarray:
         ValueError: wrong shape or a NaN objective.
     """
     values = _objective_matrix(front_objectives, "front_objectives")
+    if maximize:
+        values = -values
     k, m = values.shape
     if k <= 2:
         return np.full(k, np.inf)
@@ -154,11 +163,9 @@ def scalar_fitness(objectives: ArrayLike, maximize: bool = True) -> np.ndarray:
     if ranks.size == 0:
         return fitness
     n_fronts = int(ranks.max()) + 1
-    # Crowding in pymoo's minimisation frame, so ties sort exactly as pymoo sorts them.
-    costs = -values if maximize else values
     for rank in range(n_fronts):
         members = np.flatnonzero(ranks == rank)
-        crowd = crowding_distance(costs[members])
+        crowd = crowding_distance(values[members], maximize=maximize)
         bonus = np.full(members.size, 0.5)
         finite = np.isfinite(crowd)
         bonus[finite] = 0.5 * crowd[finite] / (1.0 + crowd[finite])

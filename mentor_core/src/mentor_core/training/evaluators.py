@@ -4,6 +4,11 @@ All three split the genomes into contiguous chunks, evaluate each chunk with the
 :class:`~mentor_core.training.problem.NavigationProblem` and concatenate in order. Evaluation is
 deterministic and a genome's result does not depend on its chunk, so every backend gives
 bit-identical objectives for the same genomes.
+
+Helpers die with the process that started them (:mod:`.child_processes`): pool workers on
+any end of the trainer, kill -9 included; a local Ray on Ctrl-C or SIGTERM (``ray.shutdown``)
+and, on Linux, on kill -9 too. Used as a context manager, an evaluator left by an exception
+(Ctrl-C, SIGTERM, an error) stops its workers at once rather than waiting for their chunks.
 """
 
 from __future__ import annotations
@@ -12,15 +17,20 @@ import itertools
 import logging
 import multiprocessing
 import os
+import re
+import signal
 import socket
-from collections.abc import Sequence
-from concurrent.futures import Executor, ProcessPoolExecutor
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from types import FrameType
 from typing import Any
 
 import numpy as np
 
-from mentor_core.errors import ConfigError, MentorError
+from mentor_core.errors import ConfigError, MentorError, one_line
 from mentor_core.evolution.genome import Genome
+from mentor_core.training.child_processes import Reaper, die_with_parent
 from mentor_core.training.problem import Evaluation, NavigationProblem
 
 
@@ -49,14 +59,25 @@ class Evaluator:
         """Objectives and outcome rates for ``genomes``, row i for genome i."""
         return self.problem.evaluate(genomes)
 
+    def describe(self) -> str:
+        """Where the genomes are evaluated, in a few words (for a command's log)."""
+        return "in process"
+
     def close(self) -> None:
         """Release workers (no-op in process)."""
+
+    def terminate(self) -> None:
+        """Stop at once, abandoning work in progress (an interrupted run); default close()."""
+        self.close()
 
     def __enter__(self) -> Evaluator:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, exc_type: type[BaseException] | None, *exc: object) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.terminate()
 
 
 class InProcessEvaluator(Evaluator):
@@ -64,7 +85,12 @@ class InProcessEvaluator(Evaluator):
 
 
 class PoolEvaluator(Evaluator):
-    """Evaluate on a local process pool of ``workers`` processes."""
+    """Evaluate on a local process pool of ``workers`` processes.
+
+    The workers die with this process (:func:`~.child_processes.die_with_parent`), kill -9
+    included, and ignore Ctrl-C (this process stops them); use the evaluator from the thread
+    that created it.
+    """
 
     def __init__(self, problem: NavigationProblem, workers: int) -> None:
         super().__init__(problem)
@@ -72,9 +98,16 @@ class PoolEvaluator(Evaluator):
             raise ValueError(f"workers must be at least 1, got {workers}")
         self.workers = workers
         # spawn, not fork: numba's OpenMP threads (parallel MST kernel) do not survive a fork
-        self._pool: Executor = ProcessPoolExecutor(
-            max_workers=workers, mp_context=multiprocessing.get_context("spawn")
+        self._pool = ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=die_with_parent,
+            initargs=(os.getpid(),),
         )
+
+    def describe(self) -> str:
+        """``"N worker processes"``."""
+        return f"{self.workers} worker processes"
 
     def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
         """Evaluate contiguous chunks in parallel and concatenate them in order."""
@@ -86,7 +119,20 @@ class PoolEvaluator(Evaluator):
         return _concat([f.result() for f in futures])
 
     def close(self) -> None:
-        """Shut the pool down."""
+        """Shut the pool down (after the chunks in progress)."""
+        self._pool.shutdown(wait=True, cancel_futures=True)
+
+    def terminate(self) -> None:
+        """Stop the workers now (SIGTERM, then SIGKILL) and shut the pool down."""
+        # the executor has no public way to stop a busy worker (Python 3.14 adds one)
+        processes = list((self._pool._processes or {}).values())
+        for process in processes:
+            process.terminate()
+        for process in processes:
+            process.join(timeout=5)
+            if process.is_alive():
+                process.kill()
+                process.join()
         self._pool.shutdown(wait=True, cancel_futures=True)
 
 
@@ -96,6 +142,10 @@ class BackendError(MentorError, RuntimeError):
 
 # how long the reachability check of a cluster address waits before giving up
 RAY_CONNECT_TIMEOUT_S = 5.0
+# the Ray addresses that are words: a private runtime started here, and Ray's own "auto" (the
+# cluster RAY_ADDRESS names, else the one `ray start` started on this machine)
+RAY_LOCAL = "local"
+RAY_AUTO = "auto"
 
 
 def _ray_host_port(address: str) -> tuple[str, int]:
@@ -104,8 +154,8 @@ def _ray_host_port(address: str) -> tuple[str, int]:
     host = host.strip("[]")
     if not sep or not host or not port.isdigit():
         raise BackendError(
-            f"Ray address {address!r} is not 'auto' or HOST:PORT (the head node's GCS port, "
-            "e.g. 10.0.0.5:6379)"
+            f"Ray address {address!r} is not 'local', 'auto' or HOST:PORT (the head node's "
+            "GCS port, e.g. 10.0.0.5:6379)"
         )
     return host, int(port)
 
@@ -121,16 +171,67 @@ def _check_reachable(address: str, timeout: float) -> None:
         raise BackendError(f"Ray cluster at {address} is unreachable ({reason})") from None
 
 
+def _causes(err: BaseException) -> list[BaseException]:
+    """``err`` and the exceptions it was raised from or during, outermost first."""
+    chain: list[BaseException] = []
+    cause: BaseException | None = err
+    while cause is not None and cause not in chain:
+        chain.append(cause)
+        cause = cause.__cause__ or cause.__context__
+    return chain
+
+
+def _ray_failure(address: str, err: Exception) -> BackendError:
+    """One line for a failed ``ray.init``: Ray's own words, its hint when a token is missing."""
+    for cause in _causes(err):
+        # Ray raises AuthenticationError, or quotes it in the traceback text of a
+        # RuntimeError when it gave up retrying (a wrong or missing token)
+        if type(cause).__name__ == "AuthenticationError":
+            hint = one_line(cause)
+        else:
+            quoted = re.search(r"AuthenticationError: (.+)", str(cause))
+            hint = quoted.group(1).strip() if quoted else ""
+        if hint:
+            return BackendError(f"cannot join Ray at {address}: token authentication: {hint}")
+    if address == RAY_AUTO and "Could not find any running Ray instance" in str(err):
+        return BackendError(
+            "Ray address 'auto' found no running Ray cluster (Ray looks at RAY_ADDRESS, then "
+            "at the cluster `ray start --head` started on this machine): start one, give its "
+            "HOST:PORT, or use 'local' for a private Ray on this machine"
+        )
+    verb = "start" if address == RAY_LOCAL else "join"
+    first = _first_line(err) or type(err).__name__
+    why = _last_line(err.__cause__) if err.__cause__ is not None else ""  # Ray's own reason
+    return BackendError(f"cannot {verb} Ray at {address}: {first}" + (f" ({why})" if why else ""))
+
+
+def _first_line(err: BaseException) -> str:
+    lines = str(err).strip().splitlines()
+    return lines[0].strip() if lines else ""
+
+
+def _last_line(err: BaseException) -> str:
+    lines = str(err).strip().splitlines()
+    return lines[-1].strip() if lines else ""
+
+
 class RayEvaluator(Evaluator):
-    """Evaluate on Ray: ``address="auto"`` (or ``"local"``) starts a local Ray, else joins it.
+    """Evaluate on Ray: a private local runtime, or a running cluster joined.
 
     Args:
         problem: what every genome is evaluated on (put in Ray's object store once).
-        address: ``"auto"``/``"local"``: start a fresh single-machine Ray with ``workers``
-            CPUs (all cores when None), no dashboard, Ray's own logging at ERROR and worker
-            output not forwarded (the tasks print nothing; their exceptions still reach the
-            caller). ``HOST:PORT``: join the running cluster whose head listens there.
-            If Ray is already initialised in this process, that runtime is used as it is.
+        address: ``"local"``: start a private single-machine Ray with ``workers`` CPUs (all
+            cores when None), no dashboard; it stops with :meth:`close` and dies with this
+            process (ray.shutdown on Ctrl-C/SIGTERM; after a kill -9 a
+            :class:`~.child_processes.Reaper` stops Ray's agents, which outlive it). ``"auto"``:
+            join the running cluster as Ray's own ``auto`` finds it (``RAY_ADDRESS``, else the
+            cluster ``ray start`` started on this machine). ``HOST:PORT``: join the cluster
+            whose head's GCS listens there. A cluster with token authentication needs
+            ``RAY_AUTH_MODE=token`` and its token (``RAY_AUTH_TOKEN``, ``RAY_AUTH_TOKEN_PATH``
+            or ``~/.ray/auth_token``), as Ray documents; Ray itself enables it for ``auto``
+            when a token file exists. In all cases Ray's own logging is at ERROR and worker
+            output is not forwarded (the tasks print nothing; their exceptions still reach the
+            caller). If Ray is already initialised in this process, that runtime is used.
         workers: number of chunks a population is split into (one Ray task each); default
             the CPUs of the Ray runtime.
 
@@ -141,7 +242,7 @@ class RayEvaluator(Evaluator):
     """
 
     def __init__(
-        self, problem: NavigationProblem, address: str = "auto", workers: int | None = None
+        self, problem: NavigationProblem, address: str = RAY_LOCAL, workers: int | None = None
     ) -> None:
         super().__init__(problem)
         if workers is not None and workers < 1:
@@ -154,11 +255,17 @@ class RayEvaluator(Evaluator):
             ) from None
         self._ray: Any = ray
         self._owns_ray = False
-        if not self._ray.is_initialized():
+        self._reaper = Reaper()
+        if self._ray.is_initialized():
+            self._where = "the Ray runtime of this process"
+        else:
             self._init_ray(address, workers)
+            self._where = "a private local Ray" if address == RAY_LOCAL else "the Ray cluster"
         try:
-            cpus = int(self._ray.cluster_resources().get("CPU", 1))
-            self.workers = workers or max(1, cpus)
+            self._cpus = int(self._ray.cluster_resources().get("CPU", 1))
+            self._nodes = sum(1 for node in self._ray.nodes() if node.get("Alive"))
+            self._gcs = str(self._ray.get_runtime_context().gcs_address)
+            self.workers = workers or max(1, self._cpus)
             self._problem_ref = self._ray.put(problem)
             self._remote = self._ray.remote(_ray_evaluate)
         except BaseException:
@@ -177,20 +284,38 @@ class RayEvaluator(Evaluator):
                 f"Ray address {address}: Ray Client addresses need ray[client]; "
                 "pass the head node's HOST:PORT (GCS port, default 6379) instead"
             )
+        if address not in (RAY_LOCAL, RAY_AUTO):
+            _check_reachable(address, RAY_CONNECT_TIMEOUT_S)
+        if address == RAY_LOCAL:
+            self._reaper.start()  # before ray.init: a kill -9 while it starts is covered too
+        # ray.init replaces the SIGTERM handler with its own sys.exit (and Ray's C++ core adds
+        # a crash reporter); an application's own handler (mentor-train's) is put back
+        own_handler = _application_sigterm_handler()
         try:
-            if address in ("auto", "local"):
-                # "local", not Ray's "auto": always a fresh runtime of our own, never a
-                # cluster found through RAY_ADDRESS or /tmp/ray
-                ray.init(address="local", num_cpus=workers or os.cpu_count(), **quiet)
+            if address == RAY_LOCAL:
+                ray.init(address=RAY_LOCAL, num_cpus=workers or os.cpu_count(), **quiet)
             else:
-                _check_reachable(address, RAY_CONNECT_TIMEOUT_S)
                 ray.init(address=address, **quiet)
-        except BackendError:
+        except BaseException as err:
+            ray.shutdown()  # whatever a failed or interrupted ray.init started
+            self._reaper.stop()
+            if isinstance(err, Exception):  # ConnectionError, RuntimeError, ValueError
+                raise _ray_failure(address, err) from None
+            if own_handler and isinstance(err, SystemExit) and err.code == signal.SIGTERM:
+                own_handler(signal.SIGTERM, None)  # the SIGTERM Ray's handler took
             raise
-        except Exception as err:  # ConnectionError, ValueError, RuntimeError from ray.init
-            first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-            raise BackendError(f"cannot start or join Ray at {address}: {first}") from None
+        finally:
+            if own_handler:
+                signal.signal(signal.SIGTERM, own_handler)
         self._owns_ray = True
+
+    def describe(self) -> str:
+        """Which Ray, its nodes and CPUs, e.g. ``the Ray cluster at 10.0.0.5:6379 (3 nodes,
+        48 CPUs), 48 tasks a generation``."""
+        return (
+            f"{self._where} at {self._gcs} ({_count(self._nodes, 'node')}, "
+            f"{_count(self._cpus, 'CPU')}), {_count(self.workers, 'task')} a generation"
+        )
 
     def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
         """Evaluate contiguous chunks as Ray tasks and concatenate them in order."""
@@ -205,6 +330,19 @@ class RayEvaluator(Evaluator):
         if self._owns_ray:
             self._owns_ray = False
             self._ray.shutdown()
+        self._reaper.stop()
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" + ("" if n == 1 else "s")
+
+
+def _application_sigterm_handler() -> Callable[[int, FrameType | None], Any] | None:
+    """The SIGTERM handler the application set in Python, if any (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    handler = signal.getsignal(signal.SIGTERM)
+    return handler if callable(handler) else None
 
 
 def _ray_evaluate(problem: NavigationProblem, genomes: Sequence[Genome]) -> Evaluation:
@@ -216,6 +354,7 @@ def make_evaluator(
 ) -> Evaluator:
     """The backend a command line asks for: Ray if an address is given, else a pool or not.
 
+    ``ray_address``: ``local``, ``auto`` or ``HOST:PORT`` (see :class:`RayEvaluator`).
     ``workers``: pool processes, or for Ray the CPUs of a local runtime and the number of
     chunks (default: in process; all of Ray's CPUs). ConfigError when it is below 1.
     """
