@@ -1,0 +1,90 @@
+"""What the hand-written planners share: reading the network inputs back, acting through the
+network's outputs, and odometry.
+
+The baselines and the oracle are policies of the same kind as an evolved network
+(``mentor_core.sim.episode.Policy``): they get the same inputs (range readings and goal
+inputs, ``mentor_core.sim.observation.network_inputs``) once per control period and answer
+outputs in ``[0, 1]`` that the engine turns into actions with the same function
+(``actions_from_outputs``: the heading limit, the step range and the clearance rule). So they
+have the same sensors, action limits and control period as the evolved planners.
+
+Odometry: a robot knows the actions it took, and the engine moves it along exactly that arc
+(``mentor_core.sim.kinematics.unicycle_arc``) unless the decision ends the episode (goal or
+collision). So a pose integrated from the start with the actions that ``actions_from_outputs``
+makes of the policy's own outputs is the true pose, up to rounding; it is what wheel odometry
+gives a real robot, without drift.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.sim.kinematics import unicycle_arc, wrap_angle
+from mentor_core.sim.observation import CLEARANCE_CONE, actions_from_outputs
+from mentor_core.sim.robots import RobotProfile
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+def outputs_for(dtheta: ArrayLike, ds: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """Network outputs ``(m, 2)`` that ``actions_from_outputs`` maps onto ``(dtheta, ds)``
+    (rad, m), each clipped into the profile's range first:
+    ``o_1 = (dtheta / h + 1) / 2``, ``o_2 = (ds - step_min) / (step_max - step_min)``."""
+    h = profile.heading_change_max
+    span = profile.step_max - profile.step_min
+    o1 = 0.5 * (np.clip(np.asarray(dtheta, dtype=np.float64) / h, -1.0, 1.0) + 1.0)
+    ds_ = np.asarray(ds, dtype=np.float64)
+    o2 = np.clip((ds_ - profile.step_min) / span, 0.0, 1.0) if span > 0 else np.zeros_like(ds_)
+    return np.stack([np.broadcast_to(o1, np.shape(o2)), o2], axis=-1).reshape(-1, 2)
+
+
+def readings(inputs: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """The clipped range readings ``(m, k)`` (m) in network inputs ``(m, k + 3)``."""
+    return np.asarray(inputs, dtype=np.float64)[:, : profile.n_sensors]
+
+
+def goal_polar(inputs: ArrayLike, profile: RobotProfile) -> tuple[FloatArray, FloatArray]:
+    """``(bearing (m,), distance (m,))`` of the goal from the body (rad, m), read back from
+    the goal inputs of either encoding (``mentor_core.sim.observation``): egocentric
+    ``beta = atan2(sin, cos)``, ``d = R / S``; paper ``beta = atan2(dY, dX) - theta``,
+    ``d = R / sqrt(|(dX, dY)|)``. Within the goal radius ``d`` reads as ``R``."""
+    x = np.asarray(inputs, dtype=np.float64)
+    k = profile.n_sensors
+    radius = profile.goal_radius
+    if profile.input_encoding == "egocentric":
+        bearing = np.arctan2(x[:, k + 1], x[:, k])
+        distance = radius / np.maximum(x[:, k + 2], 1e-12)
+    else:
+        bearing = wrap_angle(np.arctan2(x[:, k + 1], x[:, k]) - x[:, k + 2])
+        distance = radius / np.sqrt(np.maximum(np.hypot(x[:, k], x[:, k + 1]), 1e-24))
+    return np.asarray(bearing, dtype=np.float64), np.asarray(distance, dtype=np.float64)
+
+
+def free_along(ranges: ArrayLike, direction: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """How far each robot saw free space along a body-frame ``direction`` (m, (m,)): the
+    smallest ``U_i cos(a_i - phi)`` over the sensors facing within 45 deg of it, as the
+    clearance rule reads it (``observation.clearance_limit``); NaN where no sensor faces
+    that way (the Swarm-Robot sees nothing behind it)."""
+    u = np.asarray(ranges, dtype=np.float64)
+    phi = np.asarray(direction, dtype=np.float64).reshape(-1, 1)
+    off = wrap_angle(profile.sensor_angles[None, :] - phi)
+    ahead = np.abs(off) <= CLEARANCE_CONE + 1e-9
+    along = np.where(ahead, u * np.cos(off), np.inf).min(axis=1)
+    return np.where(ahead.any(axis=1), along, np.nan)
+
+
+class Odometry:
+    """Poses ``(n, 3)`` of ``n`` robots integrated from their starts with their own actions
+    (module docstring); ``starts`` in any frame (the map frame for the oracle)."""
+
+    def __init__(self, starts: ArrayLike) -> None:
+        self.poses = np.array(starts, dtype=np.float64).reshape(-1, 3)
+
+    def advance(
+        self, robots: IntArray, outputs: ArrayLike, inputs: ArrayLike, profile: RobotProfile
+    ) -> None:
+        """Move ``robots`` by the actions the engine makes of ``outputs`` given ``inputs``."""
+        dtheta, ds = actions_from_outputs(outputs, profile, readings(inputs, profile))
+        self.poses[robots] = unicycle_arc(self.poses[robots], dtheta, ds)
