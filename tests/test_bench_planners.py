@@ -12,11 +12,18 @@ import numpy as np
 import pytest
 
 from mentor_core.benchmark.contenders import Contender, hand_written
-from mentor_core.benchmark.control import Odometry, goal_polar, outputs_for
+from mentor_core.benchmark.control import (
+    Odometry,
+    PointMemory,
+    goal_polar,
+    outputs_for,
+    sees_all_round,
+)
 from mentor_core.benchmark.scores import outcomes, spl, under_limit
 from mentor_core.benchmark.suite import reference_profile
 from mentor_core.sim.collision import default_sample_step
 from mentor_core.sim.episode import Policy, run_episodes
+from mentor_core.sim.kinematics import unicycle_arc
 from mentor_core.sim.observation import actions_from_outputs, network_inputs
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
 from mentor_core.sim.world import Scenario, World
@@ -178,3 +185,25 @@ def test_a_score_under_a_limit_is_a_run_with_that_limit(baseline: str) -> None:
         success, collision = under_limit(long_run, np.full(len(scenarios), limit), 1.0)
         assert success.tolist() == direct.reached.tolist()
         assert collision.tolist() == direct.collided.tolist()
+
+
+def test_point_memory_keeps_what_was_seen_in_the_body_frame() -> None:
+    swarm, ugv = get_profile("swarm"), get_profile("ugv")
+    assert sees_all_round(ugv) and not sees_all_round(swarm)
+    assert PointMemory(2, ugv, 10).depth == 1
+    memory = PointMemory(1, swarm, 3)
+    pose = np.array([[1.0, 2.0, 0.5]])
+    seen = np.array([[[0.3, -0.1], [0.5, 0.0], [np.nan, np.nan]]])
+    first = memory.add_and_get(np.array([0]), pose, seen)
+    assert np.allclose(first[0, -3:][:2], seen[0, :2])
+    # move on an arc: the points keep their place in the map, so in the body frame they are
+    # where the new pose's inverse puts them
+    moved = unicycle_arc(pose, np.array([0.4]), np.array([0.2]))
+    later = memory.add_and_get(np.array([0]), moved, np.full((1, 3, 2), np.nan))
+    old = later[0, -6:-3][:2]
+    c, s = np.cos(pose[0, 2]), np.sin(pose[0, 2])
+    world = pose[0, :2] + seen[0, :2] @ np.array([[c, s], [-s, c]])
+    dx = world - moved[0, :2]
+    c2, s2 = np.cos(moved[0, 2]), np.sin(moved[0, 2])
+    assert np.allclose(old, np.column_stack([c2 * dx[:, 0] + s2 * dx[:, 1],
+                                             -s2 * dx[:, 0] + c2 * dx[:, 1]]))

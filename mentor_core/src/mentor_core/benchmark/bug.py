@@ -9,16 +9,24 @@ the hit point and the least one since, and its odometry
 (:class:`mentor_core.benchmark.control.Odometry`, in the frame of its start: the goal
 inputs give the goal in that frame, so it needs nothing an evolved planner does not get).
 
+Free ranges are those of the corridor the body sweeps
+(:func:`mentor_core.benchmark.control.free_corridor`), on the current hit points and, for a
+robot that does not see all round (the Swarm-Robot), those of its last ``MEMORY`` (10)
+decisions (:class:`mentor_core.benchmark.control.PointMemory`), as the reactive baseline.
+
 * **to goal**: turn towards the goal's bearing (at most ``h`` per decision, on the spot
   while it lies more than ``h`` off) and step ``min(step_max, free range - d_w, distance)``.
-  The way is blocked when the readings towards the goal show an obstacle nearer than the
-  goal and than ``d_w + step_max``: the hit point. The robot then follows the wall with it
-  on the side that turns it less away from the goal's direction of the freer hand.
-* **follow** (wall on side ``s``, target distance ``d_w = WALL_DISTANCE`` half body
-  diagonals): the wall's distance ``D`` is the nearest lateral hit of the sensors facing
-  20-160 deg to that side; front blocked (free range ahead below ``d_w``): turn away on the
-  spot; wall lost (``D`` beyond ``2 d_w``): arc round its end (radius ``d_w``); otherwise
-  steer ``s h (D - d_w) / d_w`` (clipped) and step on.
+  The way is blocked when the free range towards the goal is below the goal's distance and
+  ``d_w + step_max``: the hit point. The robot then follows the obstacle on the freer hand
+  (free range at +-60 deg), the obstacle on its other side.
+* **follow** (obstacle on side ``s``, distance ``d_w = WALL_DISTANCE`` (2) half body
+  diagonals), tangent following as TangentBug's boundary following: the nearest seen point
+  within ``SENSE`` (2) ``d_w``, ahead or on side ``s``, gives the direction along the wall
+  (perpendicular to the point's bearing), turned by up to 45 deg towards the wall when
+  farther than ``d_w`` and away when nearer; turn that way (at most ``h``) and step on
+  (the smallest step while it lies more than ``h`` off or the way ahead is shorter than
+  ``d_w / 2``). No point near: the wall's end; drive on ``d_w`` past it, then round it on
+  an arc of radius ``d_w`` (back to the goal after a full circle without a wall).
 * **leave** (DistBug): the goal is in view (free range towards it beyond its distance), or
   ``d - F' <= d_min - step_max`` with ``F' = F - d_w - step_max`` the part of the free range
   ``F`` towards the goal it could drive before counting as blocked again (it would take the
@@ -37,8 +45,10 @@ from numpy.typing import NDArray
 
 from mentor_core.benchmark.control import (
     Odometry,
-    free_along,
+    PointMemory,
+    free_corridor,
     goal_polar,
+    hit_points,
     outputs_for,
     readings,
 )
@@ -49,24 +59,16 @@ from mentor_core.sim.world import Scenario
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 WALL_DISTANCE = 2.0  # half body diagonals kept from the followed wall
+MEMORY = 10  # decisions whose hit points a robot remembers (as the reactive baseline)
 SENSE = 2.0  # hit points within SENSE d_w are the wall being followed
 _TO_GOAL, _FOLLOW = 0, 1
-
-
-def hit_points(u: FloatArray, profile: RobotProfile) -> FloatArray:
-    """Body-frame points ``(m, k, 2)`` (m) where each sensor's reading ends (along its
-    facing); NaN where it saw nothing in range."""
-    mounts = profile.sensor_mounts
-    reach = np.where(u < profile.sensor_range, u, np.nan)
-    x = mounts[None, :, 0] + reach * np.cos(mounts[None, :, 2])
-    y = mounts[None, :, 1] + reach * np.sin(mounts[None, :, 2])
-    return np.stack([x, y], axis=-1)
 
 
 def bug_policy(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
     """A Bug policy for robot ``i`` on ``scenarios[i]`` (module docstring)."""
     n = len(scenarios)
     odometry = Odometry(np.zeros((n, 3)))
+    memory = PointMemory(n, profile, MEMORY)
     mode = np.full(n, _TO_GOAL)
     side = np.ones(n)
     d_hit = np.full(n, np.inf)
@@ -88,11 +90,12 @@ def bug_policy(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
         goal_xy[robots[fresh]] = (poses[fresh, :2] + distance[fresh, None]
                                   * np.stack([np.cos(heading[fresh]), np.sin(heading[fresh])],
                                              axis=1))  # fmt: skip
-        to_goal = np.nan_to_num(free_along(u, bearing, profile), nan=0.0)
-        ahead = np.nan_to_num(free_along(u, np.zeros(len(robots)), profile), nan=0.0)
-        left = np.nan_to_num(free_along(u, np.full(len(robots), np.pi / 3), profile), nan=0.0)
-        right = np.nan_to_num(free_along(u, np.full(len(robots), -np.pi / 3), profile), nan=0.0)
-        points = hit_points(u, profile)
+        m = len(robots)
+        points = memory.add_and_get(robots, poses, hit_points(u, profile))
+        to_goal = free_corridor(u, bearing, profile, points)
+        ahead = free_corridor(u, np.zeros(m), profile, points)
+        left = free_corridor(u, np.full(m, np.pi / 3), profile, points)
+        right = free_corridor(u, np.full(m, -np.pi / 3), profile, points)
         dtheta = np.zeros(len(robots))
         ds = np.full(len(robots), profile.step_min)
         for row, r in enumerate(robots.tolist()):

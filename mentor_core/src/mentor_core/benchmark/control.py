@@ -75,6 +75,78 @@ def free_along(ranges: ArrayLike, direction: ArrayLike, profile: RobotProfile) -
     return np.where(ahead.any(axis=1), along, np.nan)
 
 
+def hit_points(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """Body-frame points ``(m, k, 2)`` (m) where each sensor's reading ends, along its
+    facing (a beam's nearest echo is taken on its axis); NaN where it saw nothing in range."""
+    u = np.asarray(ranges, dtype=np.float64)
+    mounts = profile.sensor_mounts
+    reach = np.where(u < profile.sensor_range, u, np.nan)
+    x = mounts[None, :, 0] + reach * np.cos(mounts[None, :, 2])
+    y = mounts[None, :, 1] + reach * np.sin(mounts[None, :, 2])
+    return np.stack([x, y], axis=-1)
+
+
+def free_corridor(
+    ranges: ArrayLike, direction: ArrayLike, profile: RobotProfile,
+    points: FloatArray | None = None,
+) -> FloatArray:
+    """How far (m, (m,)) each robot can drive along a body-frame ``direction`` before the
+    corridor its body sweeps (half width: the circumscribed radius) meets a seen point: the
+    least ``along`` of the hit points ahead of the centre whose distance across the
+    direction is below that radius; the free range along the direction (:func:`free_along`)
+    when it is nearer; 0 for a direction no sensor faces.
+
+    ``points``: the body-frame points ``(m, p, 2)`` to check (NaN rows are ignored); by
+    default those of ``ranges`` (:func:`hit_points`). The readings a sensor takes at its
+    facing say nothing of what lies between two rays, so a box's corner beside the path can
+    be missed by :func:`free_along` alone (it counts only sensors facing within 45 deg) and
+    clipped by the body's side.
+    """
+    pts = hit_points(ranges, profile) if points is None else points
+    phi = np.asarray(direction, dtype=np.float64).reshape(-1, 1)
+    c, s = np.cos(phi), np.sin(phi)
+    along = pts[..., 0] * c + pts[..., 1] * s
+    across = -pts[..., 0] * s + pts[..., 1] * c
+    inside = (np.abs(across) < profile.half_diagonal) & (along > 0.0)
+    corridor = np.where(inside, along, np.inf).min(axis=1)
+    ahead = np.nan_to_num(free_along(ranges, direction, profile), nan=0.0)
+    return np.asarray(np.minimum(ahead, corridor), dtype=np.float64)
+
+
+def sees_all_round(profile: RobotProfile) -> bool:
+    """Whether every direction lies within 45 deg of a sensor's facing (the UGV's eight
+    sensors; not the Swarm-Robot's three at the front)."""
+    directions = np.linspace(-np.pi, np.pi, 360, endpoint=False)
+    off = wrap_angle(profile.sensor_angles[None, :] - directions[:, None])
+    return bool((np.abs(off) <= CLEARANCE_CONE + 1e-9).any(axis=1).all())
+
+
+class PointMemory:
+    """The hit points of each robot's last ``depth`` decisions, kept in its odometry frame
+    (a histogram grid's short memory, as VFH keeps one): what a robot saw ahead a moment ago
+    is still there when it has passed beside it and no sensor faces it any more. A robot
+    that sees all round (:func:`sees_all_round`) keeps only the current decision's: it sees
+    what is beside it anyway."""
+
+    def __init__(self, n: int, profile: RobotProfile, depth: int) -> None:
+        self.depth = 1 if sees_all_round(profile) else depth
+        self.points = np.full((n, self.depth, profile.n_sensors, 2), np.nan)
+
+    def add_and_get(self, robots: IntArray, poses: FloatArray, body_points: FloatArray
+                    ) -> FloatArray:
+        """Store ``body_points`` ``(m, k, 2)`` seen at ``poses`` (odometry frame) and return
+        every remembered point in each robot's body frame now, ``(m, depth k, 2)``."""
+        c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
+        x, y = body_points[..., 0], body_points[..., 1]
+        world = np.stack([poses[:, 0:1] + c * x - s * y, poses[:, 1:2] + s * x + c * y], -1)
+        mem = self.points[robots]
+        mem = np.concatenate([mem[:, 1:], world[:, None]], axis=1)
+        self.points[robots] = mem
+        flat = mem.reshape(len(robots), -1, 2)
+        dx, dy = flat[..., 0] - poses[:, 0:1], flat[..., 1] - poses[:, 1:2]
+        return np.stack([c * dx + s * dy, -s * dx + c * dy], axis=-1)
+
+
 class Odometry:
     """Poses ``(n, 3)`` of ``n`` robots integrated from their starts with their own actions
     (module docstring); ``starts`` in any frame (the map frame for the oracle)."""
