@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from mentor_core.benchmark.contenders import Contender, hand_written
+from mentor_core.benchmark.contenders import Contender, evolved, from_genome, hand_written
 from mentor_core.benchmark.control import (
     Odometry,
     PointMemory,
@@ -19,8 +20,11 @@ from mentor_core.benchmark.control import (
     outputs_for,
     sees_all_round,
 )
+from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.scores import outcomes, spl, under_limit
-from mentor_core.benchmark.suite import reference_profile
+from mentor_core.benchmark.suite import build_suite, reference_profile
+from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.collision import default_sample_step
 from mentor_core.sim.episode import Policy, run_episodes
 from mentor_core.sim.kinematics import unicycle_arc
@@ -207,3 +211,16 @@ def test_point_memory_keeps_what_was_seen_in_the_body_frame() -> None:
     c2, s2 = np.cos(moved[0, 2]), np.sin(moved[0, 2])
     assert np.allclose(old, np.column_stack([c2 * dx[:, 0] + s2 * dx[:, 1],
                                              -s2 * dx[:, 0] + c2 * dx[:, 1]]))
+
+
+def test_a_genome_in_memory_runs_as_its_file() -> None:
+    path = Path(__file__).resolve().parents[1] / "bags/regression/ugv_reference_genome.json"
+    robot = get_profile("ugv")
+    suite = build_suite(robot, "validation", ["traps"], pairs_per_family=3)
+    genome, metadata = load_genome_and_metadata(path)
+    profile = planner_profile(robot, metadata)
+    a = run_contender(suite, evolved(path, robot)).outcomes
+    b = run_contender(suite, from_genome(genome, profile, "in memory")).outcomes
+    assert np.array_equal(a.steps, b.steps) and np.array_equal(a.reached, b.reached)
+    with pytest.raises(ValueError, match="inputs"):
+        from_genome(genome, get_profile("swarm"), "wrong robot")

@@ -20,6 +20,7 @@ from mentor_core.benchmark.bug import bug_policy
 from mentor_core.benchmark.oracle import oracle_policy
 from mentor_core.benchmark.reactive import reactive_policy
 from mentor_core.errors import FileFormatError
+from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.planner import planner_profile
@@ -70,9 +71,17 @@ def evolved(path: str | Path, robot: RobotProfile, name: str = "") -> Contender:
     genome, metadata = load_genome_and_metadata(path)
     profile = planner_profile(robot, metadata, path)
     try:
-        check_compatible(genome, profile)
+        return from_genome(genome, profile, name or str(path), str(path))
     except ValueError as err:
         raise FileFormatError(path, str(err)) from None
+
+
+def from_genome(genome: Genome, profile: RobotProfile, name: str, source: str = "") -> Contender:
+    """A genome in memory (e.g. one of a run's population) acting with ``profile``, the
+    planner profile it was trained with (``mentor_core.runtime.planner.planner_profile`` of
+    its metadata, or the trainer's ``make_problem(config).profile``). ValueError when its
+    inputs and outputs do not fit the profile."""
+    check_compatible(genome, profile)
     network = FeedForwardNetwork.from_genome(genome)
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
@@ -81,4 +90,4 @@ def evolved(path: str | Path, robot: RobotProfile, name: str = "") -> Contender:
 
         return policy
 
-    return Contender(name or str(path), "evolved", profile, make, str(path))
+    return Contender(name, "evolved", profile, make, source)

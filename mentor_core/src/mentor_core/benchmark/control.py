@@ -63,16 +63,18 @@ def goal_polar(inputs: ArrayLike, profile: RobotProfile) -> tuple[FloatArray, Fl
 
 
 def free_along(ranges: ArrayLike, direction: ArrayLike, profile: RobotProfile) -> FloatArray:
-    """How far each robot saw free space along a body-frame ``direction`` (m, (m,)): the
-    smallest ``U_i cos(a_i - phi)`` over the sensors facing within 45 deg of it, as the
-    clearance rule reads it (``observation.clearance_limit``); NaN where no sensor faces
-    that way (the Swarm-Robot sees nothing behind it)."""
+    """How far each robot saw free space along body-frame directions (m): the smallest
+    ``U_i cos(a_i - phi)`` over the sensors facing within 45 deg of ``phi``, as the clearance
+    rule reads it (``observation.clearance_limit``); NaN where no sensor faces that way (the
+    Swarm-Robot sees nothing behind it). ``direction`` ``(m,)`` gives ``(m,)``, ``(m, d)``
+    gives ``(m, d)``."""
     u = np.asarray(ranges, dtype=np.float64)
-    phi = np.asarray(direction, dtype=np.float64).reshape(-1, 1)
-    off = wrap_angle(profile.sensor_angles[None, :] - phi)
+    phi = np.asarray(direction, dtype=np.float64)
+    off = wrap_angle(profile.sensor_angles - phi[..., None])  # (m, [d,] k)
     ahead = np.abs(off) <= CLEARANCE_CONE + 1e-9
-    along = np.where(ahead, u * np.cos(off), np.inf).min(axis=1)
-    return np.where(ahead.any(axis=1), along, np.nan)
+    readings_ = u if phi.ndim == 1 else u[:, None, :]
+    along = np.where(ahead, readings_ * np.cos(off), np.inf).min(axis=-1)
+    return np.where(ahead.any(axis=-1), along, np.nan)
 
 
 def hit_points(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
@@ -90,11 +92,11 @@ def free_corridor(
     ranges: ArrayLike, direction: ArrayLike, profile: RobotProfile,
     points: FloatArray | None = None,
 ) -> FloatArray:
-    """How far (m, (m,)) each robot can drive along a body-frame ``direction`` before the
+    """How far (m) each robot can drive along a body-frame ``direction`` before the
     corridor its body sweeps (half width: the circumscribed radius) meets a seen point: the
     least ``along`` of the hit points ahead of the centre whose distance across the
     direction is below that radius; the free range along the direction (:func:`free_along`)
-    when it is nearer; 0 for a direction no sensor faces.
+    when it is nearer; 0 for a direction no sensor faces. Shapes as :func:`free_along`.
 
     ``points``: the body-frame points ``(m, p, 2)`` to check (NaN rows are ignored); by
     default those of ``ranges`` (:func:`hit_points`). The readings a sensor takes at its
@@ -103,12 +105,14 @@ def free_corridor(
     clipped by the body's side.
     """
     pts = hit_points(ranges, profile) if points is None else points
-    phi = np.asarray(direction, dtype=np.float64).reshape(-1, 1)
-    c, s = np.cos(phi), np.sin(phi)
-    along = pts[..., 0] * c + pts[..., 1] * s
-    across = -pts[..., 0] * s + pts[..., 1] * c
+    phi = np.asarray(direction, dtype=np.float64)
+    c, s = np.cos(phi)[..., None], np.sin(phi)[..., None]  # (m, [d,] 1)
+    x, y = (pts[..., 0], pts[..., 1]) if phi.ndim == 1 else (pts[:, None, :, 0],
+                                                             pts[:, None, :, 1])
+    along = x * c + y * s
+    across = -x * s + y * c
     inside = (np.abs(across) < profile.half_diagonal) & (along > 0.0)
-    corridor = np.where(inside, along, np.inf).min(axis=1)
+    corridor = np.where(inside, along, np.inf).min(axis=-1)
     ahead = np.nan_to_num(free_along(ranges, direction, profile), nan=0.0)
     return np.asarray(np.minimum(ahead, corridor), dtype=np.float64)
 

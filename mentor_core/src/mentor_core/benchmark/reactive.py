@@ -68,8 +68,8 @@ def reactive_policy(scenarios: Sequence[Scenario], profile: RobotProfile) -> Pol
         bearing, distance = goal_polar(inputs, profile)
         m = len(robots)
         seen = memory.add_and_get(robots, odometry.poses[robots], hit_points(u, profile))
-        free = np.stack([free_corridor(u, np.full(m, phi), profile, seen)
-                         for phi in DIRECTIONS], axis=1)  # fmt: skip
+        free = free_corridor(u, np.broadcast_to(DIRECTIONS, (m, DIRECTIONS.size)), profile,
+                             seen)  # fmt: skip
         ok = free >= np.minimum(safe, distance[:, None] + profile.half_diagonal)
         w1, w2, w3 = WEIGHTS
         cost = (w1 * np.abs(wrap_angle(DIRECTIONS[None, :] - bearing[:, None]))
