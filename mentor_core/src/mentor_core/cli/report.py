@@ -2,9 +2,11 @@
 
     mentor-report runs/ugv-single runs/ugv-dual --eval eval/ugv.json --out report/
     mentor-report runs/*-s* --out report/       # unfinished runs are skipped with a warning
+    mentor-report runs/ugv-dual --bench bench/ugv/bench.json --out report/
 
 Writes PNG figures (Pareto front, convergence, niche sizes, performance vs complexity,
-topology, trajectories) and ``report.md`` with the numbers into ``--out``.
+topology, trajectories; with ``--bench`` the benchmark's success per family and example
+trajectories) and ``report.md`` with the numbers into ``--out``.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from mentor_core.report.markdown import write_report
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of mentor-report."""
     p = argparse.ArgumentParser(prog="mentor-report", description=__doc__.split("\n")[0])
-    p.add_argument("runs", nargs="+", type=Path, help="run directories (mentor-train --out)")
+    p.add_argument("runs", nargs="*", type=Path, help="run directories (mentor-train --out)")
     p.add_argument(
         "--eval",
         action="append",
@@ -31,16 +33,27 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="EVAL_JSON",
         help="mentor-eval JSON file (repeatable)",
     )
+    p.add_argument(
+        "--bench",
+        action="append",
+        default=[],
+        type=Path,
+        metavar="BENCH_JSON",
+        help="mentor-bench JSON file (repeatable)",
+    )
     p.add_argument("--out", required=True, type=Path, help="output directory")
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (2 on bad input)."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not (args.runs or args.eval or args.bench):
+        parser.error("give a run directory, --eval or --bench")
     matplotlib.use("Agg")  # no display needed; the report draws on the Agg canvas only
     try:
-        report = write_report(args.runs, args.eval, args.out)
+        report = write_report(args.runs, args.eval, args.out, bench_jsons=args.bench)
     except (MentorError, OSError) as err:
         print(f"mentor-report: {' '.join(str(err).split())}", file=sys.stderr)
         return 2

@@ -12,6 +12,8 @@ from typing import TextIO
 from matplotlib.figure import Figure
 
 from mentor_core.atomic import write_bytes_atomic, write_text_atomic
+from mentor_core.benchmark.document import load_bench
+from mentor_core.report.bench import bench_markdown
 from mentor_core.report.figures import (
     NICHE_BOUND,
     _png,
@@ -57,8 +59,10 @@ def write_report(
     out_dir: str | Path = "report",
     *,
     log: TextIO | None = None,
+    bench_jsons: Sequence[str | Path] = (),
 ) -> Path:
-    """Write the figures (PNG) and ``report.md`` of some runs and evaluations into ``out_dir``.
+    """Write the figures (PNG) and ``report.md`` of some runs, evaluations and benchmark
+    results (``mentor-bench`` JSON, ``bench_jsons``) into ``out_dir``.
 
     Unfinished runs (no ``population.json``) are skipped with a warning line on ``log``
     (stderr by default); a missing or corrupt file raises FileFormatError naming it. Returns
@@ -77,6 +81,7 @@ def write_report(
             continue
         runs.append(load_run(p))
     evals = [load_eval(e) for e in eval_jsons]
+    benches = [(Path(b), load_bench(b)) for b in bench_jsons]
 
     names: dict[int, str] = {}
     taken: set[str] = set()
@@ -236,12 +241,14 @@ def write_report(
                 name = save(fig, f"{etag}_{j}-{_slug(run.label)}_trajectories.png")
                 md += [f"![trajectories {run.label}]({name})", ""]
 
+    for k, (path, doc) in enumerate(benches):
+        md += bench_markdown(doc, out, prefix=f"bench{k}-{_slug(path.stem)}")
     if skipped:
         md += ["## Skipped", ""]
         md += [f"- `{p}`: unfinished run (no population.json)" for p in skipped]
         md += [""]
-    if not runs and not evals:
-        md += ["Nothing to report: no finished run and no evaluation.", ""]
+    if not runs and not evals and not benches:
+        md += ["Nothing to report: no finished run, no evaluation and no benchmark.", ""]
     report = out / "report.md"
     write_text_atomic(report, "\n".join(md))
     return report

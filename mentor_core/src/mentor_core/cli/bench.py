@@ -1,0 +1,134 @@
+"""``mentor-bench``: evolved planners, classic baselines and the oracle on unseen world families.
+
+    mentor-bench runs/ugv-dual/best_genome.json --robot ugv --out bench/ugv
+    mentor-bench a.json b.json --robot swarm --split test --pairs-per-family 40 --out bench/sw
+    mentor-bench --robot ugv --families rooms,maze --pairs-per-family 5     # baselines only
+
+Runs each genome (with the planner settings of its metadata, as mentor-eval), the baselines
+(``vfh``, ``bug``) and the oracle on the seeded world families of a split (validation by
+default; the test split is for reporting only), prints success / SPL per family under the
+paper's 50 s and under a limit scaled to each pair's shortest path, and with ``--out`` writes
+``bench.json`` (format ``mentor-bench``), ``bench.md`` and its figures there; ``mentor-report
+--bench bench.json`` includes them in a report.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+from mentor_core.atomic import write_json_atomic, write_text_atomic
+from mentor_core.benchmark.contenders import HAND_WRITTEN, Contender, evolved, hand_written
+from mentor_core.benchmark.document import bench_document
+from mentor_core.benchmark.families import FAMILIES
+from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
+from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile
+from mentor_core.errors import MentorError, one_line
+from mentor_core.report.bench import bench_markdown
+from mentor_core.sim.robots import RobotProfile, get_profile
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of mentor-bench."""
+    p = argparse.ArgumentParser(prog="mentor-bench", description=__doc__.split("\n")[0])
+    p.add_argument("genomes", nargs="*", type=Path, help="genome JSON files (best_genome.json)")
+    p.add_argument("--robot", required=True, help="robot profile (ugv, swarm)")
+    p.add_argument("--split", default="validation", choices=tuple(SPLITS),
+                   help="seed split (validation; test only to report)")  # fmt: skip
+    p.add_argument("--families", help=f"comma-separated (default all: {','.join(FAMILIES)})")
+    p.add_argument("--pairs-per-family", type=int, default=20, help="start/goal pairs (20)")
+    p.add_argument("--baselines", default=",".join(n for n, (k, _) in HAND_WRITTEN.items()
+                                                   if k == "baseline"),
+                   help="comma-separated baselines, or 'none' (default vfh,bug)")  # fmt: skip
+    p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
+    p.add_argument("--label", action="append", help="a label per genome (default: its path)")
+    p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
+    return p
+
+
+def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender]:
+    """The genomes, baselines and oracle the command line names; MentorError (or
+    FileFormatError / ConfigError naming the genome file) for bad ones."""
+    labels = args.label or [str(g) for g in args.genomes]
+    if len(labels) != len(args.genomes):
+        raise MentorError("give one --label per genome")
+    if len(set(labels)) != len(labels):
+        raise MentorError("two planners have the same label; give --label")
+    chosen: list[Contender] = [evolved(path, robot, label)
+                               for label, path in zip(labels, args.genomes, strict=True)]
+    names = [] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]
+    for name in names:
+        if name not in HAND_WRITTEN or HAND_WRITTEN[name][0] != "baseline":
+            known = ", ".join(n for n, (k, _) in HAND_WRITTEN.items() if k == "baseline")
+            raise MentorError(f"--baselines: unknown baseline {name!r} (known: {known})")
+    reference = reference_profile(robot)
+    chosen += [hand_written(n, reference) for n in names]
+    return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
+
+
+def table(results: list[ContenderResult], families: tuple[str, ...], limit: str) -> str:
+    """The success / SPL table of one limit, a row per family, a column per planner."""
+    width = max(12, *(len(r.contender.name) for r in results))
+    lines = [f"{'family':<14}" + "".join(f"{r.contender.name:>{width + 2}}" for r in results)]
+    for group in [*families, "overall"]:
+        cells = []
+        for r in results:
+            s = r.scores[limit][group]
+            cells.append(f"{s['success']:>{width - 6}.0%} / {s['spl']:.2f}")
+        lines.append(f"{group:<14}" + "".join(f"  {c}" for c in cells))
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit status (2 on bad input)."""
+    args = build_parser().parse_args(argv)
+    matplotlib.use("Agg")
+
+    def progress(line: str) -> None:
+        print(f"mentor-bench: {line}", file=sys.stderr, flush=True)
+
+    try:
+        if args.pairs_per_family < 1:
+            raise MentorError(f"--pairs-per-family must be >= 1, got {args.pairs_per_family}")
+        families = None if args.families is None else [
+            f.strip() for f in args.families.split(",") if f.strip()]
+        if args.out is not None and args.out.exists() and not args.out.is_dir():
+            raise MentorError(f"{args.out}: exists and is not a directory")
+        robot = get_profile(args.robot)
+        contenders = _contenders(args, robot)
+        began = time.perf_counter()
+        try:
+            suite = build_suite(robot, args.split, families, args.pairs_per_family)
+        except ValueError as err:
+            raise MentorError(f"--families: {one_line(err)}") from None
+        progress(f"{len(suite.pairs)} pairs of {args.robot} on the {args.split} split in "
+                 f"{len({p.scenario.world.name for p in suite.pairs})} worlds "
+                 f"({time.perf_counter() - began:.1f} s)")  # fmt: skip
+        results = []
+        for k, contender in enumerate(contenders):
+            progress(f"[{k + 1}/{len(contenders)}] {contender.name} ({contender.kind})")
+            results.append(run_contender(suite, contender, progress))
+        for limit in LIMITS:
+            title = "50 s" if limit == "paper" else "scaled to the shortest path"
+            print(f"success / SPL, {args.robot}, {args.split} split, limit {title}")
+            print(table(results, suite.families, limit))
+            print()
+        if args.out is not None:
+            args.out.mkdir(parents=True, exist_ok=True)
+            doc = bench_document(suite, results, args.pairs_per_family)
+            md = bench_markdown(doc, args.out, heading="#")
+            write_text_atomic(args.out / "bench.md", "\n".join(md))
+            write_json_atomic(args.out / "bench.json", doc)
+            progress(f"wrote {args.out / 'bench.json'} and {args.out / 'bench.md'}")
+    except (MentorError, OSError) as err:
+        print(f"mentor-bench: {one_line(err)}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

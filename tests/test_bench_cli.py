@@ -1,0 +1,101 @@
+"""mentor-bench (cli/bench.py) end to end on a small suite, its result file
+(benchmark/document.py), mentor-report --bench, and bad input: one line, exit 2."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from mentor_core.benchmark.document import load_bench
+from mentor_core.cli.bench import main as bench_main
+from mentor_core.cli.report import main as report_main
+from mentor_core.errors import FileFormatError
+
+ROOT = Path(__file__).resolve().parents[1]
+UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
+
+
+@pytest.fixture(scope="module")
+def bench_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("bench") / "ugv"
+    code = bench_main([str(UGV_GENOME), "--label", "ref", "--robot", "ugv", "--families",
+                       "slalom,traps", "--pairs-per-family", "2", "--out", str(out)])
+    assert code == 0
+    return out
+
+
+def test_bench_writes_the_table_json_and_markdown(
+    bench_dir: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    doc = load_bench(bench_dir / "bench.json")
+    assert [c["name"] for c in doc["contenders"]] == ["ref", "vfh", "bug", "oracle"]
+    assert [c["kind"] for c in doc["contenders"]] == ["evolved", "baseline", "baseline",
+                                                      "oracle"]
+    assert doc["families"] == ["slalom", "traps"] and len(doc["pairs"]) == 4
+    assert doc["contenders"][0]["settings"]["step_max"] == 0.5  # the genome's own metadata
+    for c in doc["contenders"]:
+        for limit in ("paper", "scaled"):
+            overall = c["scores"][limit]["overall"]
+            assert 0.0 <= overall["success"] <= 1.0
+            assert overall["success"] + overall["collision"] + overall["timeout"] == (
+                pytest.approx(1.0))
+            per_pair = [r["reached"] for r in c["results"]]
+            if limit == "paper":
+                assert overall["success"] <= sum(per_pair) / 4
+    md = (bench_dir / "bench.md").read_text()
+    assert "| slalom |" in md and "| **overall** |" in md
+    for png in ("bench_success.png", "bench_success_scaled.png", "bench_trajectories.png"):
+        assert (bench_dir / png).stat().st_size > 1000
+        assert f"({png})" in md
+
+
+def test_report_includes_a_benchmark(bench_dir: Path, tmp_path: Path) -> None:
+    assert report_main(["--bench", str(bench_dir / "bench.json"), "--out",
+                        str(tmp_path / "rep")]) == 0  # fmt: skip
+    text = (tmp_path / "rep" / "report.md").read_text()
+    assert "## Benchmark: ugv, validation split" in text
+    assert (tmp_path / "rep" / "bench0-bench_success.png").exists()
+
+
+def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None:
+    doc = json.loads((bench_dir / "bench.json").read_text())
+    doc["contenders"][1]["results"] = doc["contenders"][1]["results"][:-1]
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    with pytest.raises(FileFormatError, match=r"bad\.json: contenders\[1\] must have one"):
+        load_bench(bad)
+    bad.write_text("{not json")
+    with pytest.raises(FileFormatError, match="not valid JSON"):
+        load_bench(bad)
+    assert report_main(["--bench", str(bad), "--out", str(tmp_path / "r")]) == 2
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--robot", "ugv", "--families", "caves"], "unknown world family 'caves'"),
+        (["--robot", "ugv", "--pairs-per-family", "0"], "--pairs-per-family must be >= 1"),
+        (["--robot", "tank"], "unknown robot 'tank'"),
+        (["--robot", "ugv", "--baselines", "astar"], "unknown baseline 'astar'"),
+        (["missing.json", "--robot", "ugv"], "missing.json"),
+        ([str(UGV_GENOME), "--robot", "swarm"], "ugv_reference_genome.json"),
+        ([str(UGV_GENOME), str(UGV_GENOME), "--robot", "ugv"], "same label"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(
+    args: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert bench_main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1
+
+
+def test_out_must_not_be_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    target = tmp_path / "taken"
+    target.write_text("keep me")
+    assert bench_main(["--robot", "ugv", "--families", "doe", "--pairs-per-family", "1",
+                       "--out", str(target)]) == 2  # fmt: skip
+    assert target.read_text() == "keep me"
+    assert "not a directory" in capsys.readouterr().err
