@@ -1,4 +1,4 @@
-"""The benchmark's worlds and pairs (benchmark/families.py, benchmark/suite.py): every family
+"""The benchmark's worlds and pairs (sim/families.py, benchmark/suite.py): every family
 gives valid, deterministic worlds; every pair is solvable at the unseen test's distances; the
 splits are disjoint and fixed."""
 
@@ -9,20 +9,20 @@ import math
 import numpy as np
 import pytest
 
-from mentor_core.benchmark.families import FAMILIES
 from mentor_core.benchmark.suite import (
     FEASIBLE_SHARE,
     PAIRS_PER_WORLD,
     PAPER_LIMIT,
     SPLITS,
     build_suite,
-    distance_range,
     reference_profile,
     scaled_limit,
     top_pace,
     world_pairs,
 )
+from mentor_core.navigation.pairs import distance_range
 from mentor_core.navigation.shortest_path import VisibilityGraph
+from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.scenarios import CLEARANCE_FACTOR
 

@@ -40,10 +40,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mentor_core.benchmark.families import FAMILIES
-from mentor_core.navigation.shortest_path import VisibilityGraph
+from mentor_core.navigation.pairs import distance_range, solvable_pairs
+from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, with_planner
-from mentor_core.sim.scenarios import CLEARANCE_FACTOR
 from mentor_core.sim.world import Scenario, World
 
 SPLITS = {"validation": 0, "test": 1_000_000}
@@ -51,8 +50,6 @@ PAIRS_PER_WORLD = 5
 PAPER_LIMIT = 50.0  # s, the paper's test limit
 FEASIBLE_SHARE = 0.7  # share of the paper's limit the shortest path may take at top pace
 _WORLD_TRIES = 10
-_BATCH = 64  # candidate pairs per draw
-_ROUNDS = 40  # draws per world before it counts as too crowded for its pairs
 # the planners shipped with issue 15 (train_<robot>_paper.yaml), frozen for the benchmark
 _REFERENCE: dict[str, dict[str, float | str | None]] = {
     "ugv": {"input_encoding": "egocentric", "heading_change_max": math.pi / 4,
@@ -113,12 +110,6 @@ def scaled_limit(shortest: float, reference: RobotProfile) -> float:
     return 2.0 * shortest / top_pace(reference) + turn
 
 
-def distance_range(robot: RobotProfile, size: float) -> tuple[float, float]:
-    """Straight start-goal distances of the unseen test, m: ``[size / 4, min(uncapped
-    distance, size sqrt 2)]``."""
-    return size / 4.0, min(robot.uncapped_distance, size * math.sqrt(2.0))
-
-
 def world_pairs(
     family: str, seed: int, robot: RobotProfile, reference: RobotProfile | None = None
 ) -> tuple[World, list[BenchPair]]:
@@ -145,30 +136,11 @@ def _solvable_pairs(
     rng: np.random.Generator,
 ) -> list[BenchPair]:
     """Up to ``PAIRS_PER_WORLD`` pairs of ``world`` (module docstring), in drawing order."""
-    clear = CLEARANCE_FACTOR * robot.half_diagonal
-    graph = VisibilityGraph(world, robot.half_diagonal)
-    d_min, d_max = distance_range(robot, world.size)
     longest = FEASIBLE_SHARE * PAPER_LIMIT * top_pace(ref)
-    lo, hi = clear, world.size - clear
-    found: list[BenchPair] = []
-    for _ in range(_ROUNDS):
-        starts = rng.uniform(lo, hi, (_BATCH, 2))
-        goals = rng.uniform(lo, hi, (_BATCH, 2))
-        headings = np.pi - 2.0 * np.pi * rng.random(_BATCH)  # (-pi, pi]
-        dist = np.hypot(*(goals - starts).T)
-        ok = (world.free_at(starts, clear) & world.free_at(goals, clear)
-              & (dist >= d_min) & (dist <= d_max))  # fmt: skip
-        for i in np.flatnonzero(ok):
-            length = graph.to_disc(starts[i], goals[i], robot.goal_radius)
-            if not length <= longest:  # inf (no path) or too long
-                continue
-            start = (float(starts[i, 0]), float(starts[i, 1]), float(headings[i]))
-            scenario = Scenario(world, start, (float(goals[i, 0]), float(goals[i, 1])))
-            found.append(BenchPair(family, seed, len(found), scenario, length,
-                                   scaled_limit(length, ref)))  # fmt: skip
-            if len(found) == PAIRS_PER_WORLD:
-                return found
-    return found
+    drawn = solvable_pairs(world, robot, PAIRS_PER_WORLD, distance_range(robot, world.size),
+                           longest, rng)  # fmt: skip
+    return [BenchPair(family, seed, k, scenario, length, scaled_limit(length, ref))
+            for k, (scenario, length) in enumerate(drawn)]  # fmt: skip
 
 
 def build_suite(

@@ -24,11 +24,11 @@ import matplotlib
 from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.benchmark.contenders import HAND_WRITTEN, Contender, evolved, hand_written
 from mentor_core.benchmark.document import bench_document
-from mentor_core.benchmark.families import FAMILIES
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
+from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, get_profile
 
 

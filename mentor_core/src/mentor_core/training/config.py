@@ -19,6 +19,7 @@ import yaml
 from mentor_core.errors import ConfigError, FileFormatError, is_number, one_line
 from mentor_core.evolution.config import EvolutionConfig
 from mentor_core.evolution.loop import Mode
+from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import INPUT_ENCODINGS
 from mentor_core.sim.scenarios import DoEConfig
 
@@ -41,6 +42,11 @@ class TrainerConfig:
             see ``mentor_core.sim.scenarios.training_scenarios``.
         doe: the training worlds' layout (``mentor_core.sim.scenarios.DoEConfig``; the paper's
             by default); in a config file a mapping of the fields to change.
+        families: structured training worlds besides the DoE's (a curriculum): one world of
+            each named family (``mentor_core.sim.families``) with ``family_pairs`` pairs at
+            the unseen test's distances (``mentor_core.training.curriculum``); none by default,
+            as in the paper.
+        family_pairs: start/goal pairs in each family's training world.
         input_encoding: the network's goal inputs, ``"egocentric"`` (default) or ``"paper"``
             (``mentor_core.sim.observation``); written into the best genome's metadata so that
             the planner node and mentor-eval feed the network the same way.
@@ -66,6 +72,8 @@ class TrainerConfig:
     scenario_seed: int = 0
     training_worlds: int = 1
     doe: DoEConfig = field(default_factory=DoEConfig)
+    families: tuple[str, ...] = ()
+    family_pairs: int = 5
     input_encoding: str = "egocentric"
     heading_change_max_deg: float | None = None
     step_max: float | None = None
@@ -94,6 +102,18 @@ class TrainerConfig:
             or (self.n_scenarios is not None and self.training_worlds > self.n_scenarios)
         ):
             raise ConfigError("must be in [1, n_scenarios]", key="training_worlds")
+        if not all(isinstance(f, str) and f in FAMILIES for f in self.families) or len(
+            set(self.families)
+        ) != len(self.families):
+            raise ConfigError(
+                f"must be distinct world families of {', '.join(FAMILIES)}", key="families"
+            )
+        if (
+            isinstance(self.family_pairs, bool)
+            or not isinstance(self.family_pairs, int)
+            or self.family_pairs < 1
+        ):
+            raise ConfigError("must be a whole number >= 1", key="family_pairs")
         _check_optional(
             self.heading_change_max_deg, lambda v: 0.0 < v <= 180.0, "in (0, 180] degrees",
             "heading_change_max_deg",
@@ -124,6 +144,7 @@ class TrainerConfig:
         d = asdict(self)
         d["evolution"] = self.evolution.to_dict()
         d["doe"] = self.doe.to_dict()
+        d["families"] = list(self.families)
         return d
 
     @classmethod
@@ -147,6 +168,11 @@ class TrainerConfig:
             kwargs["evolution"] = base
         if "doe" in kwargs:
             kwargs["doe"] = DoEConfig.from_dict(kwargs["doe"] or {}, source)
+        if "families" in kwargs:
+            names = kwargs["families"]
+            if not isinstance(names, list):
+                raise ConfigError("must be a list of world families", key="families", path=source)
+            kwargs["families"] = tuple(names)
         try:
             return cls(**kwargs)
         except ConfigError as err:

@@ -34,6 +34,7 @@ from mentor_core.objectives.complexity import flops_ratio
 from mentor_core.sim.robots import RobotProfile, get_profile, sensor_record, with_planner
 from mentor_core.sim.scenarios import DoEConfig, training_scenarios
 from mentor_core.training.config import TrainerConfig
+from mentor_core.training.curriculum import family_scenarios
 from mentor_core.training.evaluators import Evaluator, InProcessEvaluator
 from mentor_core.training.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
 from mentor_core.training.run_directory import RunDirectory, open_run
@@ -52,7 +53,7 @@ CHECKPOINT_VERSION = 1
 # config keys added after checkpoint version 1 came out, with the value their absence meant
 _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
-    "doe": DoEConfig().to_dict(),
+    "doe": DoEConfig().to_dict(), "families": [], "family_pairs": 5,
 }
 
 
@@ -99,6 +100,14 @@ def make_problem(
     scenarios = training_scenarios(
         prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds
     )
+    if config.families:
+        try:
+            scenarios += family_scenarios(
+                profile or get_profile(config.robot), prof, config.families,
+                config.family_pairs, config.scenario_seed,
+            )  # fmt: skip
+        except ValueError as err:
+            raise ConfigError(str(err), key="families", path=source) from None
     return NavigationProblem(prof, scenarios)
 
 

@@ -1,5 +1,5 @@
-"""World families of the benchmark: seeded, procedurally generated layouts of kinds the
-training never draws.
+"""World families: seeded, procedurally generated layouts of kinds the paper's DoE never
+draws (the benchmark's worlds, and training worlds for a curriculum).
 
 Each family is a pure function ``(size, rng) -> World``: the same generator state gives the
 same world. Layouts are drawn on the unit square and scaled to the arena side ``size`` (m), so

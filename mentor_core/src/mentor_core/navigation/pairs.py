@@ -1,0 +1,65 @@
+"""Start/goal pairs a robot can drive: drawn in free space, kept when a path exists.
+
+A candidate pair is drawn as the trainer's DoE draws them (``mentor_core.sim.scenarios``):
+start and goal uniform over the points at least ``1.25`` half body diagonals from every
+obstacle and wall, start heading uniform in (-pi, pi], straight distance in a given range. It
+is kept when the shortest path of the body's circumscribed disc into the goal radius
+(:mod:`mentor_core.navigation.shortest_path`) exists and is at most ``longest`` m long.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mentor_core.navigation.shortest_path import VisibilityGraph
+from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.scenarios import CLEARANCE_FACTOR
+from mentor_core.sim.world import Scenario, World
+
+BATCH = 64  # candidate pairs per draw
+ROUNDS = 40  # draws before a world counts as too crowded for its pairs
+
+
+def distance_range(robot: RobotProfile, size: float) -> tuple[float, float]:
+    """Straight start-goal distances of the unseen test in an arena of side ``size``, m:
+    ``[size / 4, min(uncapped distance, size sqrt 2)]`` (``scripts/make_unseen_bags.py``)."""
+    return size / 4.0, min(robot.uncapped_distance, size * math.sqrt(2.0))
+
+
+def solvable_pairs(
+    world: World,
+    robot: RobotProfile,
+    count: int,
+    distances: tuple[float, float],
+    longest: float,
+    rng: np.random.Generator,
+) -> list[tuple[Scenario, float]]:
+    """Up to ``count`` pairs of ``world`` with their shortest path lengths (m), in drawing
+    order; fewer when ``ROUNDS`` draws of ``BATCH`` candidates do not hold them.
+
+    ``distances`` is the straight start-goal range ``(d_min, d_max)``, m.
+    """
+    clear = CLEARANCE_FACTOR * robot.half_diagonal
+    graph = VisibilityGraph(world, robot.half_diagonal)
+    d_min, d_max = distances
+    lo, hi = clear, world.size - clear
+    found: list[tuple[Scenario, float]] = []
+    for _ in range(ROUNDS):
+        starts = rng.uniform(lo, hi, (BATCH, 2))
+        goals = rng.uniform(lo, hi, (BATCH, 2))
+        headings = np.pi - 2.0 * np.pi * rng.random(BATCH)  # (-pi, pi]
+        dist = np.hypot(*(goals - starts).T)
+        ok = (world.free_at(starts, clear) & world.free_at(goals, clear)
+              & (dist >= d_min) & (dist <= d_max))  # fmt: skip
+        for i in np.flatnonzero(ok):
+            length = graph.to_disc(starts[i], goals[i], robot.goal_radius)
+            if not length <= longest:  # inf (no path) or too long
+                continue
+            start = (float(starts[i, 0]), float(starts[i, 1]), float(headings[i]))
+            found.append((Scenario(world, start, (float(goals[i, 0]), float(goals[i, 1]))),
+                          length))  # fmt: skip
+            if len(found) == count:
+                return found
+    return found

@@ -1,0 +1,61 @@
+"""Training worlds of the structured families (a curriculum), with pairs at test distances.
+
+The paper trains on one composite DoE world. Planners trained that way loop near the start,
+follow a wall away and back, and miss doorways and the ends of walls in worlds of kinds they
+never saw (issue 15). A config's ``families`` adds one training world of each named family
+(:mod:`mentor_core.sim.families`: rooms, corridors, slalom, traps, forests, mazes) at the
+training arena's side, with ``family_pairs`` start/goal pairs each, drawn as the benchmark
+draws its pairs (:func:`mentor_core.navigation.pairs.solvable_pairs`): at the unseen test's
+straight distances ``[size / 4, min(d*, size sqrt 2)]`` (``d*`` the robot file's uncapped
+distance) and solvable for the body's circumscribed disc within what the planner can drive in
+the time-budget cap.
+
+Seeds: world ``j`` of family ``f`` comes from ``default_rng([TRAINING_SEED_TAG, scenario_seed,
+code_f])``; the benchmark's validation and test worlds use two-word seeds
+``[seed, code_f]``, so no training world is a benchmark world.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from mentor_core.navigation.pairs import distance_range, solvable_pairs
+from mentor_core.sim.families import FAMILIES
+from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.world import Scenario, World
+
+TRAINING_SEED_TAG = 7_000_001  # the first word of every training-world seed
+FEASIBLE_SHARE = 0.7  # of the cap, at the planner's top pace, as the benchmark's bound
+_WORLD_TRIES = 10
+
+
+def family_scenarios(
+    robot: RobotProfile, planner: RobotProfile, families: Sequence[str], pairs: int, seed: int
+) -> list[Scenario]:
+    """``pairs`` training pairs in one world of each family (in the order given).
+
+    ``robot`` is the robot file's profile (its distances), ``planner`` the profile as trained
+    (its top pace and time-budget cap bound the shortest path). ValueError for an unknown
+    family, or a family whose worlds hold too few pairs.
+    """
+    size = robot.train_arena
+    distances = distance_range(robot, size)
+    longest = FEASIBLE_SHARE * planner.time_budget_cap * planner.step_max / planner.control_period
+    found: list[Scenario] = []
+    for family in families:
+        if family not in FAMILIES:
+            raise ValueError(f"unknown world family {family!r} (known: {', '.join(FAMILIES)})")
+        code, generate = FAMILIES[family]
+        rng = np.random.default_rng([TRAINING_SEED_TAG, seed, code])
+        for _ in range(_WORLD_TRIES):
+            drawn = generate(size, rng)
+            world = World(drawn.size, drawn.obstacles, name=f"{robot.name}-train-{family}-{seed}")
+            chosen = solvable_pairs(world, robot, pairs, distances, longest, rng)
+            if len(chosen) == pairs:
+                break
+        else:
+            raise ValueError(f"{family} training world {seed}: too few solvable pairs")
+        found += [scenario for scenario, _ in chosen]
+    return found
