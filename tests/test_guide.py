@@ -41,11 +41,16 @@ def _guide(world: World = OPEN) -> PathGuide:
 
 def test_the_carrot_lies_a_lookahead_along_the_plan_then_the_goal() -> None:
     guide = _guide()
-    assert guide.target((1.0, 1.0), (9.0, 1.0)) == pytest.approx((2.0, 1.0))
+    # the network sees the carrot's direction at the distance still to go: here the goal
+    assert guide.target((1.0, 1.0), (9.0, 1.0)) == pytest.approx((9.0, 1.0))
+    assert guide.carrot == pytest.approx((2.0, 1.0))
     assert guide.revision == 1 and guide.path is not None
-    assert guide.target((5.0, 1.2), (9.0, 1.0)) == pytest.approx((6.0, 1.0))
+    aim = guide.target((5.0, 1.2), (9.0, 1.0))
+    assert guide.carrot == pytest.approx((6.0, 1.0))
+    assert math.dist((5.0, 1.2), aim) == pytest.approx(4.0)  # 4 m to go along the path
+    np.testing.assert_allclose(np.subtract(aim, (5.0, 1.2)) / 4.0, (0.98058, -0.19612), 1e-4)
     # within a lookahead of the path's end: the final goal itself
-    assert guide.target((8.2, 1.0), (9.0, 1.0)) == (9.0, 1.0)
+    assert guide.target((8.2, 1.0), (9.0, 1.0)) == (9.0, 1.0) and guide.carrot is None
     assert guide.revision == 1  # no replan on the way
 
 
@@ -56,9 +61,15 @@ def test_without_a_map_or_a_path_the_goal_is_the_final_goal() -> None:
 def test_round_the_dead_end_the_carrot_is_in_sight() -> None:
     guide = _guide(DEAD_END)
     start, goal = (3.0, 6.0), (10.0, 6.0)
-    carrot = guide.target(start, goal)
-    # not through the U's back wall: the path leaves the U's mouth, the carrot beside it
-    assert carrot[0] < 4.5 and math.dist(carrot, start) <= CONFIG.lookahead + 1e-9
+    aim = guide.target(start, goal)
+    carrot = guide.carrot
+    # not into the U (its mouth faces the start) but up round its arm: the carrot lies
+    # before the mouth, in sight, and the network is told to head up, not east
+    assert carrot is not None and carrot[0] < 4.5 and carrot[1] > 6.5
+    assert math.dist(carrot, start) <= CONFIG.lookahead + 1e-9
+    assert guide.planner is not None and guide.planner.visible(start, carrot)
+    heading = math.atan2(aim[1] - start[1], aim[0] - start[0])
+    assert math.radians(45) < heading < math.radians(90)
     assert guide.path is not None
     assert guide.path[:, 1].min() < 3.5 or guide.path[:, 1].max() > 8.5
 
@@ -66,9 +77,11 @@ def test_round_the_dead_end_the_carrot_is_in_sight() -> None:
 def test_a_given_path_is_followed_until_the_goal_changes() -> None:
     guide = PathGuide(CONFIG)
     guide.set_path([(0.0, 0.0), (0.0, 5.0), (5.0, 5.0)])  # before any goal: adopted by it
-    assert guide.target((0.1, 1.0), (5.0, 5.0)) == pytest.approx((0.0, 2.0))
+    guide.target((0.1, 1.0), (5.0, 5.0))
+    assert guide.carrot == pytest.approx((0.0, 2.0))
     # strayed far from it: with no map the given path stays
-    assert guide.target((2.0, 2.0), (5.0, 5.0)) == pytest.approx((0.0, 3.0))
+    guide.target((2.0, 2.0), (5.0, 5.0))
+    assert guide.carrot == pytest.approx((0.0, 3.0))
     # a new goal drops the given path: no map, so straight to the goal
     assert guide.target((0.1, 1.0), (1.0, 9.0)) == (1.0, 9.0)
     assert guide.path is None
@@ -77,10 +90,11 @@ def test_a_given_path_is_followed_until_the_goal_changes() -> None:
 def test_straying_from_the_path_plans_again_from_where_the_robot_is() -> None:
     guide = _guide()
     guide.target((1.0, 1.0), (9.0, 1.0))
-    carrot = guide.target((4.0, 4.0), (9.0, 1.0))  # 3 m off the path
+    guide.target((4.0, 4.0), (9.0, 1.0))  # 3 m off the path
     assert guide.revision == 2
     assert guide.path is not None and guide.path[0] == pytest.approx((4.0, 4.0))
-    assert math.dist(carrot, (4.0, 4.0)) == pytest.approx(CONFIG.lookahead)
+    assert guide.carrot is not None
+    assert math.dist(guide.carrot, (4.0, 4.0)) == pytest.approx(CONFIG.lookahead)
 
 
 def test_a_goal_with_no_plan_is_steered_to_directly_and_not_planned_again() -> None:

@@ -33,7 +33,7 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
 
 from mentor_core import DecisionGate, GenomePlanner, MentorError, get_profile
-from mentor_planner_node import conversions
+from mentor_planner_node import conversions, global_plan
 
 NODE_NAME = "mentor_planner"
 COMMAND_DEPTH = 10
@@ -119,6 +119,8 @@ class PlannerNode(Node):
         genome = str(values["genome"])
         self.planner = GenomePlanner.load(genome, self.profile.name) if genome else None
         self.gate = DecisionGate(stale, float(values["sync_tolerance"]))
+        #: the global plan (parameter global_plan), None without
+        self.global_plan = global_plan.attach(self, self.planner, self._answer)
         self.decisions = 0
         self.zero_commands = 0
 
@@ -188,6 +190,8 @@ class PlannerNode(Node):
         self._answer()
 
     def _answer(self) -> None:
+        if self.global_plan is not None and not self.global_plan.ready:
+            return  # nothing to follow yet: the observation waits for a map or a path
         obs = self.gate.take(self._now_ns())
         if obs is None or obs.goal is None:
             return
@@ -195,7 +199,8 @@ class PlannerNode(Node):
             self._send_zero("no genome loaded")
             return
         try:
-            dtheta, ds = self.planner.decide(obs.ranges, obs.pose, obs.goal)
+            decide = self.planner.decide if self.global_plan is None else self.global_plan.decide
+            dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)
             twist = conversions.twist_from_action(dtheta, ds, self.control_period)
         except ValueError as err:
             self._send_zero(f"no decision ({err})")
@@ -205,6 +210,8 @@ class PlannerNode(Node):
 
     def _on_watchdog(self) -> None:
         reason = self.gate.watchdog(self._now_ns())
+        if reason is not None and self.global_plan is not None and not self.global_plan.ready:
+            reason = "no map or path to follow yet (global_plan)"
         if reason is not None:
             self._send_zero(reason)
 

@@ -5,11 +5,18 @@ A :class:`PathGuide` holds one robot's global path, given (a ``nav_msgs/Path``) 
 a map (:class:`~mentor_core.navigation.grid_planner.GridPlanner`), and turns the robot's
 position into the goal its network sees (:meth:`PathGuide.target`):
 
-* the carrot, the point ``lookahead`` m along the path past the robot's progress
-  (:func:`~mentor_core.navigation.follow.lookahead_point`; progress never goes back);
-* the final goal once the carrot reaches the path's end (the robot is within ``lookahead``
-  of it along the path), or when there is no path (no map, no path given, or none found:
-  the plain planner's behaviour);
+* the carrot: the point ``lookahead`` m along the path past the robot's progress ``s*``
+  (:func:`~mentor_core.navigation.follow.lookahead_point`; progress never goes back), or, when
+  the planner's disc cannot reach it in a straight line from the robot, the farthest of the
+  points ``k lookahead / 8`` past ``s*`` (k = 7 .. 1) that it can (failing that, that the
+  body's circle can: a robot closer to a wall than the disc);
+* the network sees the goal in the carrot's direction at the distance still to go along the
+  path, ``max(|carrot - p|, L - s*)``: a goal as far as the real one, as in training, rather
+  than one that a lookahead ahead keeps arriving at (``S = R / d`` of the network's inputs
+  would say the goal is near all the way);
+* the final goal itself once the carrot reaches the path's end (the robot is within
+  ``lookahead`` of it along the path), or when there is no path (no map, no path given, or
+  none found: the plain planner's behaviour);
 * a new plan, from where the robot is, when the goal changes, when the map changes, or when
   the robot has strayed more than ``replan_distance`` from its point on the path (if none is
   found from there, the old path stays). A given path is followed until the goal changes
@@ -115,6 +122,8 @@ class PathGuide:
         self.path: FloatArray | None = None
         #: how many paths have been planned or given (a caller republishes when it changes)
         self.revision = 0
+        #: the last carrot (x, y) steered to, None when the last target was the final goal
+        self.carrot: XY | None = None
         self._given = False
         self._goal: XY | None = None
         self._failed: XY | None = None  # a goal no plan was found for
@@ -162,6 +171,7 @@ class PathGuide:
             self._failed = None
             if not adopt:
                 self._set(None)
+        self.carrot = None
         if self.path is None:
             self._plan(here, final)
         if self.path is None:
@@ -176,18 +186,28 @@ class PathGuide:
         self._from_s = s
         if s + self.config.lookahead >= self._length:
             return final
-        return self._in_sight(here, s, carrot)
+        self.carrot = aim = self._in_sight(here, s, carrot)
+        d = math.dist(here, aim)
+        if d == 0.0:
+            return aim
+        scale = max(d, self._length - s) / d
+        return here[0] + (aim[0] - here[0]) * scale, here[1] + (aim[1] - here[1]) * scale
 
     def _in_sight(self, here: XY, s: float, carrot: XY) -> XY:
         """The farthest of the carrot and the points before it (eighths of the lookahead)
-        that the robot's body can reach in a straight line; the carrot if none can."""
+        that the planner's disc can reach in a straight line, else the body's circle (a robot
+        closer to a wall than the planner's disc); the carrot if neither can."""
         if self.planner is None:
             return carrot
         assert self.path is not None
-        for k in range(_SIGHT_STEPS, 0, -1):
-            point = point_at(self.path, s + self.config.lookahead * k / _SIGHT_STEPS)
-            if self.planner.visible(here, point, self.config.radius):
-                return point
+        points = [
+            point_at(self.path, s + self.config.lookahead * k / _SIGHT_STEPS)
+            for k in range(_SIGHT_STEPS, 0, -1)
+        ]
+        for radius in (None, self.config.radius):
+            for point in points:
+                if self.planner.visible(here, point, radius):
+                    return point
         return carrot
 
 
