@@ -94,7 +94,8 @@ def guide_config(
     allow_unknown: bool = True,
 ) -> GuideConfig:
     """A robot's defaults, each replaced where given: ``lookahead`` twice the goal radius,
-    ``replan_distance`` the lookahead, ``margin`` half the footprint radius, ``resolution`` a
+    ``replan_distance`` the lookahead, ``margin`` the footprint radius (the planner keeps a
+    disc twice the body's clear: room for the network's wobble), ``resolution`` a
     quarter of the footprint radius rounded down to a millimetre, at most 0.05 m."""
     body = profile.half_diagonal
     ahead = 2.0 * profile.goal_radius if lookahead is None else lookahead
@@ -103,7 +104,7 @@ def guide_config(
         lookahead=ahead,
         replan_distance=ahead if replan_distance is None else replan_distance,
         radius=body,
-        margin=0.5 * body if margin is None else margin,
+        margin=body if margin is None else margin,
         resolution=cell if resolution is None else resolution,
         allow_unknown=allow_unknown,
     )
