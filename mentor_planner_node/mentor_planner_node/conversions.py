@@ -4,7 +4,9 @@ The planner reads ``<ns>/scan`` (ranges in the robot profile's sensor order, +in
 see ``mentor_sim_node.conversions``), ``<ns>/odom`` (pose in ``odom`` = ``map`` in the
 simulator) and ``<ns>/goal`` (``map``), and answers on ``<ns>/cmd_vel``. The network inputs
 themselves come from the one shared function ``mentor_core.network_inputs``, which
-clips +inf to the sensor range; nothing here changes a reading.
+clips +inf to the sensor range; nothing here changes a reading. With a global plan it also
+reads a ``nav_msgs/OccupancyGrid`` (the map to plan on) and ``nav_msgs/Path`` (a path to
+follow), both in ``map``, and writes the path it follows as a ``nav_msgs/Path``.
 """
 
 from __future__ import annotations

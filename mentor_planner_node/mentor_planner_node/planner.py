@@ -7,7 +7,8 @@ and output functions; when to decide and when data is stale is
 :class:`mentor_core.DecisionGate`. A watchdog on the node's clock (sim time under
 ``use_sim_time``) sends a zero Twist with a throttled warning when no observation could be
 answered for ``stale_timeout`` s. A corrupt genome or an unknown profile is one line on stderr
-and exit status 2.
+and exit status 2. With ``global_plan`` the network steers along a path given on ``plan`` or
+planned on the map (:mod:`.global_plan`).
 """
 
 from __future__ import annotations

@@ -10,6 +10,9 @@ Stepping ("lockstep", ``real_time_factor`` 0, the default): each driving robot's
 (unanswered: published again every ``resend_period`` wall s; after ``answer_timeout`` > 0 the
 robot holds still). With ``real_time_factor`` r > 0 the timer steps every ``dt / r`` wall s
 with each robot's latest command (none: it holds still).
+
+The world goes out once, latched, as markers on ``/mentor/obstacles`` and as an occupancy
+grid on ``/map`` (:func:`mentor_core.source_map`).
 """
 
 from __future__ import annotations
