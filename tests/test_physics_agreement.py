@@ -63,12 +63,26 @@ def _degenerate_rays(origins: np.ndarray, angles: np.ndarray, ranges: np.ndarray
     return through_corner | on_edge | at_max
 
 
-def _random_case(seed: int, profile: RobotProfile) -> tuple[World, np.ndarray]:
+def _random_case(
+    seed: int, profile: RobotProfile, overlap: bool = False
+) -> tuple[World, np.ndarray]:
     rng = np.random.default_rng(seed)
     world = sample_world(profile.train_arena, rng)
+    if overlap:  # every box gets a partner overlapping it, as the walls of a real layout
+        world = _with_overlaps(world, rng)
     r = profile.half_diagonal
     xy = rng.uniform(r, world.size - r, (POSES_PER_WORLD, 2))
     return world, np.c_[xy, rng.uniform(-np.pi, np.pi, POSES_PER_WORLD)]
+
+
+def _with_overlaps(world: World, rng: np.random.Generator) -> World:
+    """``world`` plus, for each box, a box of the same size shifted by a random fraction
+    (10-60 %) of its size, so the pair overlaps with positive area; clipped to the arena."""
+    b = world.obstacles
+    size = b[:, 2:] - b[:, :2]
+    shift = size * rng.uniform(0.1, 0.6, size.shape) * rng.choice([-1.0, 1.0], size.shape)
+    partner = np.clip(np.c_[b[:, :2] + shift, b[:, 2:] + shift], 0.0, world.size)
+    return World(world.size, np.concatenate([b, partner]))
 
 
 def _profile(robot: str) -> RobotProfile:
@@ -84,8 +98,19 @@ def _profile(robot: str) -> RobotProfile:
 @settings(derandomize=True, max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_ranges_agree(robot: str, seed: int) -> None:
+    _check_ranges(robot, seed, overlap=False)
+
+
+@pytest.mark.parametrize("robot", ["ugv", "swarm"])
+@settings(derandomize=True, max_examples=8, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_ranges_agree_on_overlapping_boxes(robot: str, seed: int) -> None:
+    _check_ranges(robot, seed, overlap=True)
+
+
+def _check_ranges(robot: str, seed: int, overlap: bool) -> None:
     profile = _profile(robot)
-    world, poses = _random_case(seed, profile)
+    world, poses = _random_case(seed, profile, overlap)
     reference = pymunk_world.PymunkWorld(world, profile)
     ours = sensor_readings(poses, profile, world)
     rays = beam_frames(poses, profile)  # (n, sensors, rays, 3)
@@ -106,8 +131,19 @@ def test_ranges_agree(robot: str, seed: int) -> None:
 @settings(derandomize=True, max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_collision_verdicts_agree(robot: str, seed: int) -> None:
+    _check_collisions(robot, seed, overlap=False)
+
+
+@pytest.mark.parametrize("robot", ["ugv", "swarm"])
+@settings(derandomize=True, max_examples=8, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_collision_verdicts_agree_on_overlapping_boxes(robot: str, seed: int) -> None:
+    _check_collisions(robot, seed, overlap=True)
+
+
+def _check_collisions(robot: str, seed: int, overlap: bool) -> None:
     profile = get_profile(robot)
-    world, poses = _random_case(seed, profile)
+    world, poses = _random_case(seed, profile, overlap)
     reference = pymunk_world.PymunkWorld(world, profile)
     rng = np.random.default_rng(seed)
     lim = profile.heading_change_max
@@ -122,6 +158,28 @@ def test_collision_verdicts_agree(robot: str, seed: int) -> None:
             assert static[i] == reference.collides(pose)
         if margins[offsets[i]:offsets[i + 1]].min() >= DEGENERATE:
             assert swept[i] == reference.swept_collision(pose, dth[i], ds[i])
+
+
+def test_overlapping_boxes_read_and_collide_as_their_union() -> None:
+    """Two overlapping boxes read and collide exactly as the one box of their union, in both
+    physics (rays entering at the shared corner region, bodies inside the overlap)."""
+    union = World(10.0, np.array([[3.0, 3.0, 7.0, 5.0]]))
+    pair = World(10.0, np.array([[3.0, 3.0, 5.5, 5.0], [4.5, 3.0, 7.0, 5.0]]))
+    profile = get_profile("ugv")
+    rng = np.random.default_rng(4)
+    poses = np.c_[rng.uniform(0.3, 9.7, (200, 2)), rng.uniform(-np.pi, np.pi, 200)]
+    np.testing.assert_array_equal(
+        sensor_readings(poses, profile, pair), sensor_readings(poses, profile, union)
+    )
+    np.testing.assert_array_equal(
+        robot_collides(poses, profile, pair), robot_collides(poses, profile, union)
+    )
+    ref_pair = pymunk_world.PymunkWorld(pair, profile)
+    ref_union = pymunk_world.PymunkWorld(union, profile)
+    for pose in poses[:60]:
+        np.testing.assert_allclose(ref_pair.ranges(pose), ref_union.ranges(pose), atol=1e-9)
+        assert ref_pair.collides(pose) == ref_union.collides(pose)
+    assert robot_collides(poses, profile, pair).any()
 
 
 def test_some_cases_are_interesting() -> None:

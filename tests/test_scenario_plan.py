@@ -1,4 +1,5 @@
-"""Scenario sources (world file, scenario bag, training DoE) and who runs what when."""
+"""Scenario sources (world file, scenario bag, ROS map, training DoE), the world as the map
+the simulator publishes, and who runs what when."""
 
 from __future__ import annotations
 
@@ -9,7 +10,15 @@ import pytest
 
 from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.files.bags import write_scenario_bag
-from mentor_core.runtime.scenario_plan import ScenarioPlan, ScenarioSource, load_scenario_source
+from mentor_core.navigation.grid import world_grid
+from mentor_core.navigation.map_file import save_map
+from mentor_core.runtime.scenario_plan import (
+    MAP_SCENARIOS,
+    ScenarioPlan,
+    ScenarioSource,
+    load_scenario_source,
+    source_map,
+)
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario, World, save_world
 
@@ -45,8 +54,12 @@ def test_sources(tmp_path: Path, world: World, scenarios: list[Scenario]) -> Non
 
 
 def test_bad_sources(tmp_path: Path, world: World) -> None:
-    with pytest.raises(ConfigError, match="not both"):
+    with pytest.raises(ConfigError, match="only one of"):
         load_scenario_source("a.yaml", "b")
+    with pytest.raises(ConfigError, match="only one of"):
+        load_scenario_source(scenario_bag="b", map_yaml="m.yaml")
+    with pytest.raises(FileFormatError, match=r"m\.yaml: cannot read map"):
+        load_scenario_source(map_yaml=tmp_path / "m.yaml", profile=SWARM)
     with pytest.raises(ConfigError):
         load_scenario_source()
     with pytest.raises(FileFormatError, match=r"missing\.yaml"):
@@ -62,6 +75,27 @@ def test_bad_sources(tmp_path: Path, world: World) -> None:
         load_scenario_source(world_file=tmp_path / "inside.yaml")
     with pytest.raises(FileFormatError, match="no such bag"):
         load_scenario_source(scenario_bag=tmp_path / "nobag")
+
+
+def test_a_map_is_a_source_and_the_world_is_published_on_its_cells(
+    tmp_path: Path, world: World, scenarios: list[Scenario]
+) -> None:
+    save_map(tmp_path / "m.yaml", world_grid(world, 0.25))
+    src = load_scenario_source(map_yaml=tmp_path / "m.yaml", profile=SWARM, seed=2)
+    assert len(src.scenarios) == MAP_SCENARIOS and "seed 2" in src.origin
+    assert src.map_resolution == 0.25 and src.world.size == world.size
+    assert src == load_scenario_source(map_yaml=tmp_path / "m.yaml", profile=SWARM, seed=2)
+    assert source_map(src, 0.1) == world_grid(world, 0.25)  # the map's own cells
+    # a world file naming the map: its scenarios on the map's world
+    (tmp_path / "w.yaml").write_text(
+        "format: mentor-world\nversion: 1\nmap: m.yaml\n"
+        "scenarios: [{start: [4.5, 0.5, 1.0], goal: [0.5, 4.5]}]\n"
+    )
+    named = load_scenario_source(world_file=tmp_path / "w.yaml")
+    assert named.world.obstacles.tolist() == src.world.obstacles.tolist()
+    assert named.map_resolution == 0.25
+    plain = ScenarioSource(world, tuple(scenarios), "w.yaml")
+    assert source_map(plain, 0.1) == world_grid(world, 0.1)
 
 
 def test_plan_skips_what_a_robot_cannot_start(world: World, scenarios: list[Scenario]) -> None:

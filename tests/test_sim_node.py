@@ -303,7 +303,16 @@ def _bad_sources(tmp_path: Path) -> dict[str, tuple[dict[str, Any], str]]:
         "format: mentor-world\nversion: 1\nsize: 4.0\nobstacles: [[1, 1, 2, 2]]\n"
         "scenarios:\n  - {start: [1.5, 1.5, 0.0], goal: [3, 3]}\n"
     )
+    (tmp_path / "map.yaml").write_text(
+        "image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    )
+    (tmp_path / "map.pgm").write_bytes(b"P5 40 40 255\n" + bytes(100))
     return {
+        "truncated map": (
+            {"map_yaml": str(tmp_path / "map.yaml")},
+            f"{tmp_path / 'map.pgm'}: PGM truncated: 100 of 1600 pixel bytes",
+        ),
         "truncated bag": ({"scenario_bag": str(cut)}, f"{cut}: unreadable bag"),
         "foreign bag": ({"scenario_bag": str(foreign)}, "not a mentor-scenario-bag"),
         "bag missing a topic": (
@@ -316,7 +325,11 @@ def _bad_sources(tmp_path: Path) -> dict[str, tuple[dict[str, Any], str]]:
 
 
 @pytest.mark.parametrize(
-    "case", ["truncated bag", "foreign bag", "bag missing a topic", "start inside an obstacle"]
+    "case",
+    [
+        "truncated bag", "foreign bag", "bag missing a topic", "start inside an obstacle",
+        "truncated map",
+    ],
 )
 def test_bad_scenario_sources_are_one_line_errors(graph: Graph, tmp_path: Path, case: str) -> None:
     values, fault = _bad_sources(tmp_path)[case]
@@ -334,13 +347,15 @@ def test_bad_parameters_are_one_line_errors(graph: Graph, world_file: Path) -> N
         _sim(graph, robots=["a", "b", "c"], profiles=["ugv", "swarm"])
     with pytest.raises(SimSetupError, match="one profile only"):
         _sim(graph, robots=["a", "b"], profiles=["ugv", "swarm"], record="x")
-    with pytest.raises(ConfigError, match="not both"):
+    with pytest.raises(ConfigError, match="only one of a world file, a scenario bag or a map"):
         _sim(graph, world=str(world_file), scenario_bag="b")
+    with pytest.raises(ConfigError, match="only one of"):
+        _sim(graph, world=str(world_file), map_yaml="m.yaml")
     with pytest.raises(SimSetupError, match="record_metadata: not a JSON object"):
         _sim(graph, world=str(world_file), record_metadata="[1, 2]")
 
 
-@pytest.mark.parametrize("case", ["start inside an obstacle", "truncated bag"])
+@pytest.mark.parametrize("case", ["start inside an obstacle", "truncated bag", "truncated map"])
 def test_sim_executable_exits_nonzero_with_one_line(tmp_path: Path, case: str) -> None:
     values, fault = _bad_sources(tmp_path)[case]
     args = ["--ros-args", *[a for k, v in values.items() for a in ("-p", f"{k}:={v}")]]

@@ -42,16 +42,25 @@ def test_world_equality_and_hash_compare_values() -> None:
         ([[1.0, 1.0, 2.0, 1.0]], "xmax <= xmin"),
         ([[9.5, 1.0, 10.5, 2.0]], "outside the arena"),
         ([[-0.1, 1.0, 1.0, 2.0]], "outside the arena"),
-        (
-            [[1.0, 1.0, 3.0, 3.0], [2.0, 2.0, 4.0, 4.0]],
-            r"obstacles\[0\] and obstacles\[1\] overlap",
-        ),
         ([[1.0, 1.0, math.nan, 3.0]], "not finite"),
     ],
 )
 def test_invalid_obstacles(boxes: list[list[float]], fault: str) -> None:
     with pytest.raises(ValueError, match=fault):
         World(10.0, np.array(boxes))
+
+
+def test_overlapping_obstacles_are_allowed_and_round_trip(tmp_path: Path) -> None:
+    # an L of two walls sharing their corner square, as real layouts overlap at every corner
+    boxes = np.array([[1.0, 1.0, 3.0, 3.0], [2.0, 2.0, 4.0, 4.0]])
+    world = World(10.0, boxes)
+    scenario = Scenario(world, (5.0, 8.0, 0.0), (8.0, 8.0))
+    save_world(tmp_path / "w.yaml", world, [scenario])
+    assert load_world(tmp_path / "w.yaml") == (world, [scenario])
+    with pytest.raises(ValueError, match=r"inside obstacles\[0\]"):
+        Scenario(world, (2.5, 2.5, 0.0), (8.0, 8.0))  # in both boxes
+    # the signed distance inside the union is negative (the deeper box's depth)
+    assert world.signed_distance([(2.5, 2.5)])[0] == pytest.approx(-0.5)
 
 
 def test_signed_distance_and_free_at() -> None:
@@ -112,9 +121,11 @@ GOOD = "format: mentor-world\nversion: 1\nsize: 10\n"
         (GOOD + "colour: red\n", "unknown key 'colour'"),
         (GOOD + "units: ft\n", "units"),
         ("format: mentor-world\nversion: 1\n", "missing key 'size'"),
+        (GOOD + "map: office.yaml\n", "'size' or 'map', not both"),
+        ("format: mentor-world\nversion: 1\nmap: office.yaml\n", "needs a map reader"),
+        ("format: mentor-world\nversion: 1\nmap: 3\n", "map must name a map YAML"),
         (GOOD + "obstacles: [[2, 1, 1, 3]]\n", "xmax <= xmin"),
         (GOOD + "obstacles: [[9, 1, 11, 3]]\n", "outside the arena"),
-        (GOOD + "obstacles: [[1, 1, 3, 3], [2, 2, 4, 4]]\n", "overlap"),
         (GOOD + "obstacles: [[1, 1, .nan, 3]]\n", "not finite"),
         (GOOD + "obstacles: [[1, 1, 3]]\n", "list of 4 numbers"),
         (GOOD + "obstacles: [[1, 1, 3, 3]]\nscenarios: [{start: [2, 2, 0], goal: [8, 8]}]\n",

@@ -4,7 +4,9 @@ The planner reads ``<ns>/scan`` (ranges in the robot profile's sensor order, +in
 see ``mentor_sim_node.conversions``), ``<ns>/odom`` (pose in ``odom`` = ``map`` in the
 simulator) and ``<ns>/goal`` (``map``), and answers on ``<ns>/cmd_vel``. The network inputs
 themselves come from the one shared function ``mentor_core.network_inputs``, which
-clips +inf to the sensor range; nothing here changes a reading.
+clips +inf to the sensor range; nothing here changes a reading. With a global plan it also
+reads a ``nav_msgs/OccupancyGrid`` (the map to plan on) and ``nav_msgs/Path`` (a path to
+follow), both in ``map``, and writes the path it follows as a ``nav_msgs/Path``.
 """
 
 from __future__ import annotations
@@ -15,13 +17,21 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import PoseStamped, Twist, Vector3
-from nav_msgs.msg import Odometry
-from numpy.typing import NDArray
+from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist, Vector3
+from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
+from nav_msgs.msg import Odometry, Path
+from numpy.typing import ArrayLike, NDArray
 from sensor_msgs.msg import LaserScan
-from std_msgs.msg import String
+from std_msgs.msg import Header, String
 
-from mentor_core import EVENT_FORMAT, EVENT_KINDS, MAP_FRAME, quaternion_to_yaw
+from mentor_core import (
+    EVENT_FORMAT,
+    EVENT_KINDS,
+    MAP_FRAME,
+    OccupancyGrid,
+    quaternion_to_yaw,
+    yaw_to_quaternion,
+)
 from mentor_core import twist_from_action as _twist_from_action
 
 if TYPE_CHECKING:
@@ -117,3 +127,61 @@ def twist_from_action(dtheta: float, ds: float, dt: float) -> Twist:
         raise ValueError(f"non-finite action (dtheta={dtheta}, ds={ds})")
     angular_z, linear_x = _twist_from_action(dtheta, ds, dt)
     return Twist(linear=Vector3(x=float(linear_x)), angular=Vector3(z=float(angular_z)))
+
+
+def _check_frame(frame_id: str, what: str) -> None:
+    if frame_id not in GOAL_FRAMES:
+        raise ValueError(f"{what} frame {frame_id!r} is not {MAP_FRAME!r}")
+
+
+def grid_from_occupancy_grid(msg: OccupancyGridMsg) -> OccupancyGrid:
+    """The grid of a ``nav_msgs/OccupancyGrid`` in ``map`` (an empty frame is taken as
+    ``map``); ``ValueError`` for another frame, a data length other than width x height, or a
+    bad resolution, origin or value."""
+    _check_frame(msg.header.frame_id, "map")
+    info = msg.info
+    width, height = int(info.width), int(info.height)
+    data = np.asarray(msg.data, dtype=np.int8)
+    if width * height == 0 or data.size != width * height:
+        raise ValueError(f"map has {data.size} cells for {width} x {height}")
+    p, q = info.origin.position, info.origin.orientation
+    if not all(math.isfinite(v) for v in (p.x, p.y, q.x, q.y, q.z, q.w)):
+        raise ValueError("map origin is not finite")
+    yaw = quaternion_to_yaw(q.x, q.y, q.z, q.w) if (q.x, q.y, q.z, q.w) != (0, 0, 0, 0) else 0.0
+    return OccupancyGrid(
+        float(info.resolution), (float(p.x), float(p.y), yaw), data.reshape(height, width)
+    )
+
+
+def path_from_msg(msg: Path) -> NDArray[np.float64]:
+    """Points ``(k, 2)`` (m, ``map``) of a ``nav_msgs/Path``; ``ValueError`` for an empty
+    path, another frame (of the path or a pose) or a non-finite point."""
+    _check_frame(msg.header.frame_id, "path")
+    if not msg.poses:
+        raise ValueError("path has no poses")
+    for pose in msg.poses:
+        if pose.header.frame_id:
+            _check_frame(pose.header.frame_id, "path pose")
+    points = np.array(
+        [(p.pose.position.x, p.pose.position.y) for p in msg.poses], dtype=np.float64
+    )
+    if not np.isfinite(points).all():
+        raise ValueError("path holds a non-finite point")
+    return points
+
+
+def path_msg(points: ArrayLike, stamp: Time) -> Path:
+    """A ``nav_msgs/Path`` in ``map`` through ``points`` ``(k, 2)`` (m); each pose faces
+    along its segment (the last one along the last segment)."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    step = np.diff(p, axis=0)
+    yaws = np.arctan2(step[:, 1], step[:, 0]) if len(p) > 1 else np.zeros(0)
+    yaws = np.append(yaws, yaws[-1] if len(yaws) else 0.0)
+    header = Header(stamp=stamp, frame_id=MAP_FRAME)
+    poses = []
+    for (x, y), yaw in zip(p.tolist(), yaws.tolist(), strict=True):
+        qx, qy, qz, qw = yaw_to_quaternion(yaw)
+        orientation = Quaternion(x=qx, y=qy, z=qz, w=qw)
+        pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=orientation)
+        poses.append(PoseStamped(header=header, pose=pose))
+    return Path(header=header, poses=poses)

@@ -7,7 +7,8 @@ and output functions; when to decide and when data is stale is
 :class:`mentor_core.DecisionGate`. A watchdog on the node's clock (sim time under
 ``use_sim_time``) sends a zero Twist with a throttled warning when no observation could be
 answered for ``stale_timeout`` s. A corrupt genome or an unknown profile is one line on stderr
-and exit status 2.
+and exit status 2. With ``global_plan`` the network steers along a path given on ``plan`` or
+planned on the map (:mod:`.global_plan`).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
 
 from mentor_core import DecisionGate, GenomePlanner, MentorError, get_profile
-from mentor_planner_node import conversions
+from mentor_planner_node import conversions, global_plan
 
 NODE_NAME = "mentor_planner"
 COMMAND_DEPTH = 10
@@ -119,6 +120,8 @@ class PlannerNode(Node):
         genome = str(values["genome"])
         self.planner = GenomePlanner.load(genome, self.profile.name) if genome else None
         self.gate = DecisionGate(stale, float(values["sync_tolerance"]))
+        #: the global plan (parameter global_plan), None without
+        self.global_plan = global_plan.attach(self, self.planner, self._answer)
         self.decisions = 0
         self.zero_commands = 0
 
@@ -188,6 +191,8 @@ class PlannerNode(Node):
         self._answer()
 
     def _answer(self) -> None:
+        if self.global_plan is not None and not self.global_plan.ready:
+            return  # nothing to follow yet: the observation waits for a map or a path
         obs = self.gate.take(self._now_ns())
         if obs is None or obs.goal is None:
             return
@@ -195,7 +200,8 @@ class PlannerNode(Node):
             self._send_zero("no genome loaded")
             return
         try:
-            dtheta, ds = self.planner.decide(obs.ranges, obs.pose, obs.goal)
+            decide = self.planner.decide if self.global_plan is None else self.global_plan.decide
+            dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)
             twist = conversions.twist_from_action(dtheta, ds, self.control_period)
         except ValueError as err:
             self._send_zero(f"no decision ({err})")
@@ -205,6 +211,8 @@ class PlannerNode(Node):
 
     def _on_watchdog(self) -> None:
         reason = self.gate.watchdog(self._now_ns())
+        if reason is not None and self.global_plan is not None and not self.global_plan.ready:
+            reason = "no map or path to follow yet (global_plan)"
         if reason is not None:
             self._send_zero(reason)
 

@@ -31,6 +31,8 @@ class SimParameters:
     scenario_bag: str
     seed: int
     session: SessionConfig
+    map_yaml: str = ""
+    map_resolution: float = 0.05
 
 
 def _descriptor(text: str, **extra: Any) -> ParameterDescriptor:
@@ -112,6 +114,25 @@ def _declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
     ]
 
 
+def _map_declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
+    """The world from a ROS map, and the map the node publishes (``/map``)."""
+    return [
+        (
+            "map_yaml",
+            "",
+            _descriptor("ROS map (map_server YAML + PGM) as the world; pairs sampled with seed"),
+        ),
+        (
+            "map_resolution",
+            0.05,
+            _descriptor(
+                "cell side of /map, m (a world made of a ROS map: the map's own)",
+                floating_point_range=[FloatingPointRange(from_value=0.001, to_value=10.0)],
+            ),
+        ),
+    ]
+
+
 def _is_relative_name(name: str) -> bool:
     return bool(name) and not name.startswith("/") and all(
         part and part[0].isalpha() and part.replace("_", "").isalnum()
@@ -163,13 +184,18 @@ def check_parameters(values: Mapping[str, Any], node_name: str) -> SimParameters
         record_metadata={**note, "node": node_name, "real_time_factor": rtf},
     )
     return SimParameters(
-        str(values["world"]), str(values["scenario_bag"]), int(values["seed"]), session
+        str(values["world"]),
+        str(values["scenario_bag"]),
+        int(values["seed"]),
+        session,
+        map_yaml=str(values.get("map_yaml", "")),
+        map_resolution=float(values.get("map_resolution", 0.05)),
     )
 
 
 def declare_parameters(node: Node, node_name: str) -> SimParameters:
     """Declare the node's parameters, check them, declare each robot's mount layout."""
-    declared = node.declare_parameters("", _declarations())
+    declared = node.declare_parameters("", _declarations() + _map_declarations())
     checked = check_parameters({p.name: p.value for p in declared}, node_name)
     for name, profile in checked.session.robots:
         _declare_layout(node, name, profile)

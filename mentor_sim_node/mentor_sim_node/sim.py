@@ -10,6 +10,9 @@ Stepping ("lockstep", ``real_time_factor`` 0, the default): each driving robot's
 (unanswered: published again every ``resend_period`` wall s; after ``answer_timeout`` > 0 the
 robot holds still). With ``real_time_factor`` r > 0 the timer steps every ``dt / r`` wall s
 with each robot's latest command (none: it holds still).
+
+The world goes out once, latched, as markers on ``/mentor/obstacles`` and as an occupancy
+grid on ``/map`` (:func:`mentor_core.source_map`).
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from typing import Any
 
 import rclpy
 from geometry_msgs.msg import PoseStamped, Twist
+from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
 from numpy.typing import ArrayLike
 from rclpy.clock import Clock, ClockType
@@ -43,10 +47,12 @@ from mentor_core import (
     EpisodeRecorder,
     EventKind,
     MentorError,
+    OccupancyGrid,
     Outcome,
     RobotProfile,
     SimSession,
     load_scenario_source,
+    source_map,
 )
 from mentor_sim_node import conversions
 from mentor_sim_node.params import SimSetupError, declare_parameters
@@ -55,6 +61,7 @@ __all__ = ["NODE_NAME", "QOS_COMMAND", "QOS_LATCHED", "SimNode", "SimSetupError"
 
 NODE_NAME = "mentor_sim"
 OBSTACLES_TOPIC = "/mentor/obstacles"
+MAP_TOPIC = "/map"
 COMMAND_DEPTH = 10
 EVENT_DEPTH = 10
 LATCHED_DEPTH = 1
@@ -167,7 +174,9 @@ class SimNode(Node):
     def _setup(self) -> None:
         p = declare_parameters(self, NODE_NAME)
         cfg = p.session
-        source = load_scenario_source(p.world, p.scenario_bag, cfg.robots[0][1], p.seed)
+        source = load_scenario_source(
+            p.world, p.scenario_bag, cfg.robots[0][1], p.seed, map_yaml=p.map_yaml
+        )
         self._topics = _Topics(self, cfg.robots, self._command_callback)
         #: the episodes being run: everything the node computes
         self.session = session = SimSession(source, cfg, self._topics)
@@ -177,12 +186,19 @@ class SimNode(Node):
         period = session.dt / rtf if rtf > 0.0 else cfg.resend_period
         self._timer = self.create_timer(period, self._on_timer, clock=wall)
         self._topics.markers_pub.publish(conversions.markers_from_world(session.world))
+        self._publish_map(source_map(source, p.map_resolution))
         self._topics.clock(session.time_ns)
         self.get_logger().info(
             f"simulating {', '.join(f'{n} ({pr.name})' for n, pr in cfg.robots)} "
             f"on {source.origin}: {len(source.scenarios)} scenarios, "
             + ("as fast as the planners answer" if rtf == 0.0 else f"{rtf}x real time")
         )
+
+    def _publish_map(self, grid: OccupancyGrid) -> None:
+        """The world as ``nav_msgs/OccupancyGrid`` on ``/map`` (latched), for planners' global
+        plans and RViz."""
+        self._map_pub = self.create_publisher(OccupancyGridMsg, MAP_TOPIC, QOS_LATCHED)
+        self._map_pub.publish(conversions.occupancy_grid_from_grid(grid))
 
     # ------------------------------------------------------------------ state, for callers
 

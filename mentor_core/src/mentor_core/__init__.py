@@ -8,7 +8,8 @@ and the robot stack's parts; ``docs/architecture.md`` gives the rules, lowest la
   (knows nothing of robots) | ``sim`` -- robots, worlds, sensors, collisions, the batched
   engine, network inputs and actions (knows nothing of evolution);
 * ``objectives`` -- the paper's criteria F, G and complexity | ``files`` -- genome files,
-  checkpoints, rosbag2 bags;
+  checkpoints, rosbag2 bags | ``navigation`` -- occupancy grids and ROS maps, global plans
+  for a robot's footprint, following a path;
 * ``training`` -- problem, trainers, evaluation backends, assessment | ``runtime`` -- what the
   ROS nodes run: reference simulator, scenario plans, the planner, recording;
 * ``report`` -- figures, tables and the Markdown report;
@@ -76,6 +77,16 @@ _EXPORTS: dict[str, str] = {
     "box_markers": "mentor_core.files.bags",
     "arena_outline": "mentor_core.files.bags",
     "ARENA_LINE_WIDTH": "mentor_core.files.bags",
+    # navigation
+    "OccupancyGrid": "mentor_core.navigation.grid",
+    "world_grid": "mentor_core.navigation.grid",
+    "load_map": "mentor_core.navigation.map_file",
+    "save_map": "mentor_core.navigation.map_file",
+    "load_world_file": "mentor_core.navigation.map_world",
+    "GridPlanner": "mentor_core.navigation.grid_planner",
+    "GuideConfig": "mentor_core.navigation.guide",
+    "PathGuide": "mentor_core.navigation.guide",
+    "guide_config": "mentor_core.navigation.guide",
     # training
     "TrainerConfig": "mentor_core.training.config",
     "load_config_file": "mentor_core.training.config",
@@ -89,6 +100,9 @@ _EXPORTS: dict[str, str] = {
     "Event": "mentor_core.runtime.simulator",
     "ScenarioPlan": "mentor_core.runtime.scenario_plan",
     "load_scenario_source": "mentor_core.runtime.scenario_plan",
+    "source_map": "mentor_core.runtime.scenario_plan",
+    "GuidedPlanner": "mentor_core.runtime.guided_planner",
+    "wire_grid": "mentor_core.runtime.guided_planner",
     "CommandBarrier": "mentor_core.runtime.lockstep",
     "LatestCommands": "mentor_core.runtime.lockstep",
     "EpisodeRecorder": "mentor_core.runtime.recording",
@@ -196,6 +210,33 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.files.genome_file import (
         save_genome as save_genome,
     )
+    from mentor_core.navigation.grid import (
+        OccupancyGrid as OccupancyGrid,
+    )
+    from mentor_core.navigation.grid import (
+        world_grid as world_grid,
+    )
+    from mentor_core.navigation.grid_planner import (
+        GridPlanner as GridPlanner,
+    )
+    from mentor_core.navigation.guide import (
+        GuideConfig as GuideConfig,
+    )
+    from mentor_core.navigation.guide import (
+        PathGuide as PathGuide,
+    )
+    from mentor_core.navigation.guide import (
+        guide_config as guide_config,
+    )
+    from mentor_core.navigation.map_file import (
+        load_map as load_map,
+    )
+    from mentor_core.navigation.map_file import (
+        save_map as save_map,
+    )
+    from mentor_core.navigation.map_world import (
+        load_world_file as load_world_file,
+    )
     from mentor_core.objectives.complexity import (
         flops_ratio as flops_ratio,
     )
@@ -207,6 +248,12 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.report.markdown import (
         write_report as write_report,
+    )
+    from mentor_core.runtime.guided_planner import (
+        GuidedPlanner as GuidedPlanner,
+    )
+    from mentor_core.runtime.guided_planner import (
+        wire_grid as wire_grid,
     )
     from mentor_core.runtime.lockstep import (
         CommandBarrier as CommandBarrier,
@@ -228,6 +275,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.scenario_plan import (
         load_scenario_source as load_scenario_source,
+    )
+    from mentor_core.runtime.scenario_plan import (
+        source_map as source_map,
     )
     from mentor_core.runtime.sim_session import (
         Outcome as Outcome,

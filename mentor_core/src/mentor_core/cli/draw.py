@@ -26,13 +26,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mentor_core.errors import MentorError
+from mentor_core.navigation.map_world import load_world_file
 from mentor_core.report.plots import draw_world, new_figure, save_png
 from mentor_core.sim.collision import sample_counts
 from mentor_core.sim.kinematics import arc_samples, unicycle_arc, wrap_angle
 from mentor_core.sim.pymunk_world import PymunkWorld
 from mentor_core.sim.robots import load_profiles
 from mentor_core.sim.scenarios import DoEConfig, training_scenarios
-from mentor_core.sim.world import Scenario, load_world
+from mentor_core.sim.world import Scenario
 
 PROG = "mentor-draw"
 
@@ -93,7 +94,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise ValueError(f"unknown robot {args.robot!r} (known: {', '.join(profiles)})")
         profile = profiles[args.robot]
         if args.world is not None:
-            world, scenarios = load_world(args.world)
+            world, scenarios = load_world_file(args.world)
             label = args.world
         else:
             doe = DoEConfig(wall_count=(args.walls[0], args.walls[1]))

@@ -4,11 +4,17 @@
     mentor-eval a.json b.json --robot swarm --world my_world.yaml
     mentor-eval a.json --robot ugv --seed 7 --n 10          # a freshly sampled world
     mentor-eval a.json --bag bags/unseen/swarm --record out/episodes   # + an episode bag
+    mentor-eval a.json --robot ugv --map office.yaml --seed 3     # pairs sampled on a ROS map
+    mentor-eval a.json --bag bags/unseen/ugv --global-plan        # + along a global plan
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
 table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
 ``--record`` also writes the episodes as a rosbag2 episode bag (scan, odometry, cmd_vel, goal
-and events per robot), for ``ros2 bag play`` or Foxglove.
+and events per robot), for ``ros2 bag play`` or Foxglove. ``--map`` takes the world from a
+ROS map (``map_server`` YAML + PGM; ``--n`` start/goal pairs sampled with ``--seed``, 0 by
+default). ``--global-plan`` runs every genome a second time, labelled ``<label> +global-plan``,
+its network steered towards a point ``--lookahead`` m along a shortest path planned on the
+world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run beside it.
 """
 
 from __future__ import annotations
@@ -25,11 +31,16 @@ from mentor_core.atomic import write_json_atomic
 from mentor_core.errors import FileFormatError, MentorError
 from mentor_core.files.bags import read_scenario_bag
 from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.navigation.grid import world_grid
+from mentor_core.navigation.guide import GuideConfig, guide_config, guided_goals, world_guides
+from mentor_core.navigation.map_world import load_map_world, load_world_file
+from mentor_core.runtime.guided_planner import GuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.runtime.recording import record_planners
+from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import sample_scenarios, sample_world
-from mentor_core.sim.world import Scenario, World, load_world
+from mentor_core.sim.world import Scenario, World
 from mentor_core.training.assessment import TEST_TIME_LIMIT, Assessment, assess
 
 EVAL_FORMAT = "mentor-eval"
@@ -38,22 +49,34 @@ EVAL_VERSION = 1
 
 def load_scenarios(args: argparse.Namespace) -> tuple[RobotProfile, World, list[Scenario], str]:
     """The robot profile, world and scenarios the command line names, and their source."""
+    if args.seed is not None and (args.bag is not None or args.world is not None):
+        raise MentorError("--seed samples a world or a map's pairs; not with --bag or --world")
     if args.bag is not None:
         world, scenarios, robot, _meta = read_scenario_bag(args.bag)
         if args.robot and args.robot != robot:
             raise FileFormatError(args.bag, f"bag is for robot '{robot}', not '{args.robot}'")
         return get_profile(robot), world, list(scenarios), str(args.bag)
+    if args.world is None and args.map is None and args.seed is None:
+        raise MentorError("give --bag, --world, --map or --seed")
     if not args.robot:
-        raise MentorError("--robot is required with --world or --seed")
+        raise MentorError("--robot is required with --world, --map or --seed")
     profile = get_profile(args.robot)
     if args.world is not None:
-        world, scenarios = load_world(args.world)
+        world, scenarios = load_world_file(args.world)
         if not scenarios:
             raise FileFormatError(args.world, "world file has no start/goal pairs")
         return profile, world, list(scenarios), str(args.world)
-    rng = np.random.default_rng(args.seed)
+    seed = 0 if args.seed is None else args.seed
+    rng = np.random.default_rng(seed)
+    if args.map is not None:
+        world, _grid = load_map_world(args.map)
+        try:
+            scenarios = sample_scenarios(world, profile, args.n, rng)
+        except ValueError as err:
+            raise FileFormatError(args.map, f"no {args.n} start/goal pairs: {err}") from None
+        return profile, world, scenarios, f"{args.map} seed {seed}"
     world = sample_world(profile.test_arena, rng)
-    return profile, world, sample_scenarios(world, profile, args.n, rng), f"seed {args.seed}"
+    return profile, world, sample_scenarios(world, profile, args.n, rng), f"seed {seed}"
 
 
 def _table(label: str, assessment: Assessment) -> str:
@@ -122,7 +145,7 @@ def record(
     scenarios: list[Scenario],
     time_limit: float,
     runs: list[tuple[str, str, Assessment]],
-    planners: list[GenomePlanner],
+    planners: list[Decide],
 ) -> None:
     """Write the episodes of every genome as an episode bag (``--record``).
 
@@ -133,7 +156,7 @@ def record(
     """
     if path.exists():
         raise FileFormatError(path, "already exists; the recording is not overwritten")
-    decide = {f"robot_{i}": planner.decide for i, planner in enumerate(planners)}
+    decide = dict(zip((f"robot_{i}" for i in range(len(planners))), planners, strict=True))
     recorder, traces = record_planners(world, profile, decide, scenarios, time_limit)
     labels = {f"robot_{i}": label for i, (label, _, _) in enumerate(runs)}
     recorder.save(path, profile, {"genomes": labels, "time_limit": time_limit})
@@ -148,14 +171,27 @@ def record(
     print(f"mentor-eval: recorded {recorder.n_episodes} episodes in {path}", file=sys.stderr)
 
 
+def _decide(plain: GenomePlanner, guide: GuideConfig, world: World, guided: bool) -> Decide:
+    """The decision function recorded for a run: the plain planner's, or the guided one's
+    planning on ``world``'s grid."""
+    if not guided:
+        return plain.decide
+    planner = GuidedPlanner(plain, guide)
+    planner.set_map(world_grid(world, guide.resolution))
+    return planner.decide
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of mentor-eval."""
     p = argparse.ArgumentParser(prog="mentor-eval", description=__doc__.split("\n")[0])
     p.add_argument("genomes", nargs="+", type=Path, help="genome JSON files")
-    src = p.add_mutually_exclusive_group(required=True)
+    src = p.add_mutually_exclusive_group()
     src.add_argument("--bag", type=Path, help="scenario bag (e.g. bags/unseen/ugv)")
     src.add_argument("--world", type=Path, help="world YAML file with start/goal pairs")
-    src.add_argument("--seed", type=int, help="sample a fresh test world from this seed")
+    src.add_argument(
+        "--map", type=Path, help="ROS map YAML (+ PGM); --n pairs sampled on it with --seed"
+    )
+    p.add_argument("--seed", type=int, help="sample a fresh test world (or a map's pairs)")
     p.add_argument("--robot", choices=("ugv", "swarm"), help="robot profile")
     p.add_argument("--n", type=int, default=10, help="start/goal pairs with --seed (10)")
     p.add_argument("--time-limit", type=float, default=TEST_TIME_LIMIT, help="s (50)")
@@ -165,7 +201,17 @@ def build_parser() -> argparse.ArgumentParser:
         "--record",
         type=Path,
         help="also run the episodes in the reference (pymunk) simulator and write them as an "
-        "episode bag here (namespaces robot_0, robot_1, ... in genome order)",
+        "episode bag here (namespaces robot_0, robot_1, ... in run order)",
+    )
+    p.add_argument(
+        "--global-plan",
+        action="store_true",
+        help="also run each genome along a shortest path planned on the world's grid",
+    )
+    p.add_argument(
+        "--lookahead",
+        type=float,
+        help="m along the global path the network steers to (default: 2 goal radii)",
     )
     return p
 
@@ -177,21 +223,31 @@ def main(argv: list[str] | None = None) -> int:
     if len(labels) != len(args.genomes):
         print("mentor-eval: give one --label per genome", file=sys.stderr)
         return 2
+    if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
+        print("mentor-eval: --lookahead must be a positive number of metres", file=sys.stderr)
+        return 2
     try:
         profile, world, scenarios, source = load_scenarios(args)
         runs: list[tuple[str, str, Assessment]] = []
-        planners: list[GenomePlanner] = []
+        planners: list[Decide] = []
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
-            try:
-                assessment = assess(genome, planner, scenarios, args.time_limit)
-            except ValueError as err:
-                raise FileFormatError(path, str(err)) from None
-            print(_table(label, assessment))
-            runs.append((label, str(path), assessment))
-            if args.record is not None:
-                planners.append(GenomePlanner(genome, planner, str(path)))
+            guide = guide_config(planner, lookahead=args.lookahead)
+            goals = [sc.goal for sc in scenarios]
+            for guided in (False, True) if args.global_plan else (False,):
+                guides = world_guides(world, guide, len(goals)) if guided else None
+                aims = None if guides is None else guided_goals(guides, goals)
+                try:
+                    assessment = assess(genome, planner, scenarios, args.time_limit, aims)
+                except ValueError as err:
+                    raise FileFormatError(path, str(err)) from None
+                run_label = f"{label} +global-plan" if guided else label
+                print(_table(run_label, assessment))
+                runs.append((run_label, str(path), assessment))
+                if args.record is not None:
+                    plain = GenomePlanner(genome, planner, str(path))
+                    planners.append(_decide(plain, guide, world, guided))
         if args.record is not None:
             record(args.record, profile, world, scenarios, args.time_limit, runs, planners)
         if args.out is not None:

@@ -1,9 +1,12 @@
 """Which scenario each simulated robot runs in each episode.
 
 The simulator node takes its scenarios from a world file
-(:func:`mentor_core.sim.world.load_world`), a scenario bag
-(:func:`mentor_core.files.bags.read_scenario_bag`) or, when given neither, the training DoE of
-its first robot's profile (:func:`mentor_core.sim.scenarios.training_scenarios` with a seed).
+(:func:`mentor_core.navigation.map_world.load_world_file`: its obstacles, or a ROS map its
+``map`` key names), a scenario bag (:func:`mentor_core.files.bags.read_scenario_bag`), a ROS
+map (``map_yaml``: :data:`MAP_SCENARIOS` start/goal pairs sampled on it with the seed) or, when
+given none, the training DoE of its first robot's profile
+(:func:`mentor_core.sim.scenarios.training_scenarios` with a seed). :func:`source_map` is the
+world as the occupancy grid the simulator publishes on ``/map``.
 :class:`ScenarioPlan` screens every scenario for every robot profile (a start whose body
 overlaps an obstacle or a wall cannot be run by that robot: it is skipped with a one-line
 reason) and hands out the rest: in episode ``e`` robot ``j`` of ``n`` runs its
@@ -17,21 +20,30 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.files.bags import read_scenario_bag
+from mentor_core.navigation.grid import OccupancyGrid, world_grid
+from mentor_core.navigation.map_world import load_map_world
 from mentor_core.runtime.simulator import RobotSetup, scenario_for, start_fault
 from mentor_core.sim.robots import RobotProfile
-from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.sim.scenarios import sample_scenarios, training_scenarios
 from mentor_core.sim.world import Scenario, World, load_world
+
+#: start/goal pairs sampled on a ROS map given without scenarios (``map_yaml``)
+MAP_SCENARIOS = 10
 
 
 @dataclass(frozen=True)
 class ScenarioSource:
-    """A world and its scenarios; ``origin`` names where they came from (for messages)."""
+    """A world and its scenarios; ``origin`` names where they came from (for messages);
+    ``map_resolution`` the cell side (m) of the ROS map the world was made of, None if none."""
 
     world: World
     scenarios: tuple[Scenario, ...]
     origin: str
+    map_resolution: float | None = None
 
 
 def load_scenario_source(
@@ -39,18 +51,42 @@ def load_scenario_source(
     scenario_bag: str | Path = "",
     profile: RobotProfile | None = None,
     seed: int = 0,
+    map_yaml: str | Path = "",
 ) -> ScenarioSource:
-    """Scenarios from a world file, a scenario bag, or (neither given) the training DoE of
-    ``profile`` with ``seed``.
+    """Scenarios from a world file, a scenario bag, a ROS map (:data:`MAP_SCENARIOS` pairs
+    sampled for ``profile`` with ``seed``) or (none given) the training DoE of ``profile``
+    with ``seed``.
 
-    ConfigError when both files are given (or neither and no profile); FileFormatError
-    naming the file for a missing, corrupt or foreign file, or one without scenarios.
+    ConfigError when more than one source is given (or none and no profile);
+    FileFormatError naming the file for a missing, corrupt or foreign file, or one without
+    scenarios.
     """
-    if str(world_file) and str(scenario_bag):
-        raise ConfigError("give a world file or a scenario bag, not both", key="world")
+    given = [str(f) for f in (world_file, scenario_bag, map_yaml) if str(f)]
+    if len(given) > 1:
+        raise ConfigError(
+            "give only one of a world file, a scenario bag or a map", key="world"
+        )
+    resolutions: list[float] = []
+
+    def read_map(path: Path) -> World:
+        map_world, grid = load_map_world(path)
+        resolutions.append(grid.resolution)
+        return map_world
+
     if str(world_file):
-        world, scenarios = load_world(world_file)
+        world, scenarios = load_world(world_file, map_reader=read_map)
         origin = str(world_file)
+    elif str(map_yaml):
+        if profile is None:
+            raise ConfigError("a map without scenarios needs a profile to sample them for")
+        world = read_map(Path(map_yaml))
+        rng = np.random.default_rng(seed)
+        try:
+            scenarios = sample_scenarios(world, profile, MAP_SCENARIOS, rng)
+        except ValueError as err:
+            fault = f"no start/goal pairs for {profile.name}: {err}"
+            raise FileFormatError(map_yaml, fault) from None
+        origin = f"{map_yaml}, pairs of seed {seed}"
     elif str(scenario_bag):
         world, scenarios, _, _ = read_scenario_bag(scenario_bag)
         origin = str(scenario_bag)
@@ -62,7 +98,16 @@ def load_scenario_source(
         origin = f"training scenarios of {profile.name!r}, seed {seed}"
     if not scenarios:
         raise FileFormatError(origin, "holds no scenarios (start/goal pairs)")
-    return ScenarioSource(world, tuple(scenarios), origin)
+    return ScenarioSource(world, tuple(scenarios), origin, resolutions[0] if resolutions else None)
+
+
+def source_map(source: ScenarioSource, resolution: float) -> OccupancyGrid:
+    """The simulated world as an occupancy grid in ``map`` (origin at the arena's corner):
+    rasterised at the cell side of the ROS map it was made of (so its cells come back
+    exactly; the map's unknown cells are walls in the simulator, so occupied), else at
+    ``resolution`` (m)."""
+    cell = source.map_resolution if source.map_resolution is not None else resolution
+    return world_grid(source.world, cell)
 
 
 class ScenarioPlan:

@@ -34,6 +34,8 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 Policy = Callable[[FloatArray, IntArray], ArrayLike]
+#: ``input_goals(poses (m, 3), robots (m,)) -> (m, 2)``: the goal each robot's network sees
+InputGoals = Callable[[FloatArray, IntArray], ArrayLike]
 
 
 @dataclass(frozen=True)
@@ -130,7 +132,7 @@ def _group_experience(
 def run_episodes(
     scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy, *,
     time_budgets: ArrayLike | None = None, max_steps: int | None = None,
-    backend: Backend = "auto",
+    backend: Backend = "auto", input_goals: InputGoals | None = None,
 ) -> EpisodeBatch:
     """Run one robot per scenario to the end.
 
@@ -147,10 +149,15 @@ def run_episodes(
         time_budgets: per-scenario T_tot (s) instead of ``profile.time_budget``.
         max_steps: cap on the decisions of every robot.
         backend: kernel backend of the engine.
+        input_goals: the goal (x, y) each network sees, called like ``policy`` with the
+            robots' poses (a carrot along a global path); None: its scenario's goal. Reaching
+            is always judged against the scenario's goal.
     """
     groups = _world_groups(scenarios)
     if len(groups) == 1:
-        return _run_world(scenarios, profile, policy, time_budgets, max_steps, backend)
+        return _run_world(
+            scenarios, profile, policy, time_budgets, max_steps, backend, input_goals
+        )
     n = len(scenarios)
     budgets = (
         None if time_budgets is None
@@ -161,9 +168,14 @@ def run_episodes(
         def world_policy(inputs: FloatArray, robots: IntArray, idx: IntArray = idx) -> ArrayLike:
             return policy(inputs, idx[robots])
 
+        def world_goals(poses: FloatArray, robots: IntArray, idx: IntArray = idx) -> ArrayLike:
+            assert input_goals is not None
+            return input_goals(poses, idx[robots])
+
         parts.append(_run_world(
             [scenarios[i] for i in idx], profile, world_policy,
             None if budgets is None else budgets[idx], max_steps, backend,
+            None if input_goals is None else world_goals,
         ))  # fmt: skip
     return _merge(parts, groups, n)
 
@@ -189,9 +201,18 @@ def _merge(parts: Sequence[EpisodeBatch], groups: Sequence[IntArray], n: int) ->
     return EpisodeBatch(**fields, trajectories=trajectories, experience=tuple(experience))
 
 
+def _aims(input_goals: InputGoals, poses: FloatArray, idx: IntArray) -> FloatArray:
+    """The goals ``(m, 2)`` the networks of robots ``idx`` at ``poses`` see."""
+    aims = np.asarray(input_goals(poses.copy(), idx), dtype=np.float64)
+    if aims.shape != (idx.size, 2):
+        raise ValueError(f"input_goals gave shape {aims.shape}, need {(idx.size, 2)}")
+    return aims
+
+
 def _run_world(
     scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy,
     time_budgets: ArrayLike | None, max_steps: int | None, backend: Backend,
+    input_goals: InputGoals | None = None,
 ) -> EpisodeBatch:
     """:func:`run_episodes` of scenarios that all lie in the first one's world."""
     world = scenarios[0].world
@@ -220,7 +241,8 @@ def _run_world(
     while active.any():
         idx = np.flatnonzero(active)
         seen = ranges[idx]
-        inputs = observation.network_inputs(seen, engine.poses[idx], goals[idx], profile)
+        aims = goals[idx] if input_goals is None else _aims(input_goals, engine.poses[idx], idx)
+        inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile)
         outputs = np.asarray(policy(inputs, idx), dtype=np.float64).reshape(idx.size, 2)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)
         dtheta_all, ds_all = zeros.copy(), zeros.copy()

@@ -2,7 +2,8 @@
 
 Frame ``map`` (REP-105): origin at the arena's lower-left corner, x right, y up, the arena is
 ``[0, size] x [0, size]`` m. An obstacle is a box ``[xmin, ymin, xmax, ymax]`` (m) inside the
-arena; two obstacles may touch but never overlap with positive area.
+arena; obstacles may touch and overlap (real layouts overlap at every corner: the ray casts,
+the collision tests and pymunk take each box on its own, so the obstacle is their union).
 
 World file (YAML, format ``mentor-world``, version 1, lengths in m, angles in rad)::
 
@@ -15,12 +16,17 @@ World file (YAML, format ``mentor-world``, version 1, lengths in m, angles in ra
       - [1.0, 1.0, 2.0, 1.5]     # xmin, ymin, xmax, ymax
     scenarios:                   # optional start/goal pairs
       - {start: [0.5, 0.5, 0.0], goal: [10.0, 10.0]}   # start (x, y, theta), goal (x, y)
+
+Instead of ``size``, a file may name a ROS map, ``map: maps/office.yaml`` (relative to the
+world file's folder): the arena and obstacles come from the map, read by the ``map_reader``
+that :func:`load_world` is given (``mentor_core.navigation.map_world.load_world_file`` gives
+the navigation wing's); ``obstacles`` are added to the map's.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,7 +41,7 @@ from mentor_core.sim.kinematics import wrap_angle
 
 WORLD_FORMAT = "mentor-world"
 WORLD_VERSION = 1
-_TOP_KEYS = {"format", "version", "units", "name", "size", "obstacles", "scenarios"}
+_TOP_KEYS = {"format", "version", "units", "name", "size", "map", "obstacles", "scenarios"}
 _SCENARIO_KEYS = {"start", "goal"}
 
 
@@ -44,8 +50,8 @@ class World:
     """A square arena of side ``size`` (m) with read-only (k, 4) float64 ``obstacles``.
 
     The constructor copies and checks the obstacles (ValueError naming the fault): finite,
-    ``xmax > xmin`` and ``ymax > ymin``, inside the arena, no positive-area overlap. Equality
-    and hash compare size, name and the obstacle values.
+    ``xmax > xmin`` and ``ymax > ymin``, inside the arena (they may overlap). Equality and
+    hash compare size, name and the obstacle values.
     """
 
     size: float
@@ -152,17 +158,6 @@ def _obstacle_fault(boxes: NDArray[np.float64], size: float) -> str:
             return f"obstacles[{i}] has xmax <= xmin or ymax <= ymin"
         if x0 < 0.0 or y0 < 0.0 or x1 > size or y1 > size:
             return f"obstacles[{i}] lies outside the arena [0, {size}]^2"
-    # positive-area intersection of each pair (upper triangle only)
-    ox = np.minimum(boxes[:, None, 2], boxes[None, :, 2]) - np.maximum(
-        boxes[:, None, 0], boxes[None, :, 0]
-    )
-    oy = np.minimum(boxes[:, None, 3], boxes[None, :, 3]) - np.maximum(
-        boxes[:, None, 1], boxes[None, :, 1]
-    )
-    pairs = np.argwhere(np.triu((ox > 0.0) & (oy > 0.0), k=1))
-    if pairs.size:
-        i, j = pairs[0]
-        return f"obstacles[{i}] and obstacles[{j}] overlap"
     return ""
 
 
@@ -177,8 +172,15 @@ def _point_fault(world: World, xy: Sequence[float]) -> str:
     return ""
 
 
-def load_world(path: str | Path) -> tuple[World, list[Scenario]]:
-    """Read and validate a world file; FileFormatError naming the file and the fault."""
+#: reads a ROS map YAML into a world (the ``map`` key of a world file)
+MapReader = Callable[[Path], World]
+
+
+def load_world(
+    path: str | Path, map_reader: MapReader | None = None
+) -> tuple[World, list[Scenario]]:
+    """Read and validate a world file; FileFormatError naming the file and the fault (a file
+    with a ``map`` key needs ``map_reader``, see the module docstring)."""
     source = Path(path)
     try:
         text = source.read_text(encoding="utf-8")
@@ -190,12 +192,14 @@ def load_world(path: str | Path) -> tuple[World, list[Scenario]]:
         line = str(err).strip().splitlines()[0] if str(err).strip() else "parse error"
         raise FileFormatError(source, f"not valid YAML ({line})") from None
     try:
-        return _world_from_doc(doc)
+        return _world_from_doc(doc, source.parent, map_reader)
     except (ValueError, TypeError) as err:
         raise FileFormatError(source, str(err)) from None
 
 
-def _world_from_doc(doc: Any) -> tuple[World, list[Scenario]]:
+def _world_from_doc(
+    doc: Any, folder: Path, map_reader: MapReader | None
+) -> tuple[World, list[Scenario]]:
     if not isinstance(doc, dict):
         raise ValueError("expected a mapping at the top level")
     if doc.get("format") != WORLD_FORMAT:
@@ -207,14 +211,17 @@ def _world_from_doc(doc: Any) -> tuple[World, list[Scenario]]:
         raise ValueError(f"unknown key {unknown[0]!r}")
     if doc.get("units", "m") != "m":
         raise ValueError(f"units must be 'm', got {doc.get('units')!r}")
-    if "size" not in doc:
-        raise ValueError("missing key 'size'")
-    size = _numbers(doc["size"], "size", 1)[0]
+    base = _map_world(doc, folder, map_reader)
+    if base is None and "size" not in doc:
+        raise ValueError("missing key 'size' (or 'map')")
+    size = base.size if base is not None else _numbers(doc["size"], "size", 1)[0]
     raw = doc.get("obstacles") or []
     if not isinstance(raw, list):
         raise ValueError("obstacles must be a list of [xmin, ymin, xmax, ymax]")
     boxes = [_numbers(b, f"obstacles[{i}]", 4) for i, b in enumerate(raw)]
-    name = str(doc.get("name", ""))
+    if base is not None:
+        boxes = base.obstacles.tolist() + boxes
+    name = str(doc.get("name", base.name if base is not None else ""))
     world = World(size=size, obstacles=np.array(boxes).reshape(-1, 4), name=name)
     entries = doc.get("scenarios") or []
     if not isinstance(entries, list):
@@ -230,6 +237,24 @@ def _world_from_doc(doc: Any) -> tuple[World, list[Scenario]]:
         except ValueError as err:
             raise ValueError(f"scenarios[{i}]: {err}") from None
     return world, scenarios
+
+
+def _map_world(doc: dict[Any, Any], folder: Path, map_reader: MapReader | None) -> World | None:
+    """The world of the file's ``map`` key (None without one); ValueError for a bad key."""
+    if "map" not in doc:
+        return None
+    if "size" in doc:
+        raise ValueError("give 'size' or 'map', not both (a map sets the arena)")
+    ref = doc["map"]
+    if not isinstance(ref, str) or not ref.strip():
+        raise ValueError("map must name a map YAML file")
+    if map_reader is None:
+        raise ValueError(
+            "key 'map' needs a map reader: load the file with "
+            "mentor_core.navigation.map_world.load_world_file"
+        )
+    path = Path(ref)
+    return map_reader(path if path.is_absolute() else folder / path)
 
 
 def _numbers(value: Any, key: str, n: int) -> list[float]:

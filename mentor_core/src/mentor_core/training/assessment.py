@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
-from mentor_core.sim.episode import run_episodes
+from mentor_core.sim.episode import InputGoals, run_episodes
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
 
@@ -92,8 +92,11 @@ def assess(
     profile: RobotProfile,
     scenarios: Sequence[Scenario],
     time_limit: float = TEST_TIME_LIMIT,
+    input_goals: InputGoals | None = None,
 ) -> Assessment:
-    """Run ``genome`` once on each scenario with a fixed time limit (s)."""
+    """Run ``genome`` once on each scenario with a fixed time limit (s); ``input_goals``
+    gives the goal each network sees (a carrot along a global path,
+    :func:`mentor_core.navigation.guide.guided_goals`), None: the scenario's goal."""
     check_compatible(genome, profile)
     network = FeedForwardNetwork.from_genome(genome)
 
@@ -101,7 +104,9 @@ def assess(
         return network.activate(inputs)
 
     budgets = np.full(len(scenarios), float(time_limit))
-    batch = run_episodes(list(scenarios), profile, policy, time_budgets=budgets)
+    batch = run_episodes(
+        list(scenarios), profile, policy, time_budgets=budgets, input_goals=input_goals
+    )
     results = tuple(
         ScenarioResult(
             scenario=i,

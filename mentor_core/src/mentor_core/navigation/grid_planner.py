@@ -1,0 +1,207 @@
+"""Shortest paths on an occupancy grid for a robot's footprint (a global planner, as Nav2's).
+
+1. Inflation. A cell is *traversable* when the distance from its centre to the nearest
+   obstacle cell's centre (``scipy.ndimage.distance_transform_edt``; the outside of the grid
+   counts as obstacle) is at least ``radius + sqrt(2) r`` (``r`` the resolution). Then every
+   point of a traversable cell's square is at least ``radius`` from every obstacle cell's
+   square (centre to square: ``- r / sqrt(2)``; point to its cell's centre: ``- r /
+   sqrt(2)``), so a disc of radius ``radius`` (the footprint's circumscribed circle, plus a
+   margin) anywhere on such a square touches no obstacle cell.
+2. Search. Dijkstra (``scipy.sparse.csgraph.dijkstra``) on the 8-connected graph of
+   traversable cells, edges of length ``r`` and ``sqrt(2) r``; a diagonal step only where
+   both cells beside it are traversable too, so the segments between cell centres stay on
+   traversable squares.
+3. Shortcut. The cell path (from the start point to the goal point where their cells are
+   traversable) is pulled straight: from each kept point, the farthest next point in sight
+   (every cell the segment crosses, found exactly from its grid-line crossings, is
+   traversable) is kept, so the path is no longer grid-jagged and still lies on traversable
+   squares: collision-free for the disc.
+
+A start or goal whose cell is not traversable (a robot close to a wall, a goal beside one)
+is moved to the nearest traversable cell within ``tolerance``; farther, or with no path
+between them, there is no plan (None). Unknown cells are free with ``allow_unknown`` (Nav2's
+NavFn default), obstacles otherwise.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
+
+from mentor_core.navigation.grid import LETHAL, OccupancyGrid
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+_SQRT2 = math.sqrt(2.0)
+
+
+class GridPlanner:
+    """Shortest paths on ``grid`` for a disc of ``radius`` m (module docstring).
+
+    Args:
+        grid: the map.
+        radius: m, the footprint's circumscribed radius (``RobotProfile.half_diagonal``) plus
+            any safety margin.
+        allow_unknown: unknown cells are free (True) or obstacles.
+        lethal: cells at or above this value are obstacles.
+        tolerance: m, how far a start or goal may be moved onto a traversable cell (None:
+            ``radius + 2 r``).
+    """
+
+    def __init__(
+        self,
+        grid: OccupancyGrid,
+        radius: float,
+        *,
+        allow_unknown: bool = True,
+        lethal: int = LETHAL,
+        tolerance: float | None = None,
+    ) -> None:
+        if not (math.isfinite(radius) and radius >= 0.0):
+            raise ValueError(f"radius must be a finite number >= 0, got {radius}")
+        self.grid = grid
+        self.radius = float(radius)
+        r = grid.resolution
+        self.tolerance = self.radius + 2.0 * r if tolerance is None else float(tolerance)
+        blocked = np.pad(grid.obstacles(lethal, not allow_unknown), 1, constant_values=True)
+        #: (height, width): distance (m) from each cell's centre to the nearest obstacle cell's
+        self.clearance: FloatArray = ndimage.distance_transform_edt(~blocked)[1:-1, 1:-1] * r
+        #: (height, width): cells a disc of ``radius`` may stand on anywhere
+        self.traversable: BoolArray = self.free_for(self.radius)
+        self._node = np.full(self.traversable.shape, -1, dtype=np.int64)
+        self._node[self.traversable] = np.arange(int(self.traversable.sum()))
+        self._graph = self._build_graph()
+        # nearest traversable cell of every cell (for moving a start or goal onto one)
+        if self.traversable.any():
+            dist, nearest = ndimage.distance_transform_edt(
+                ~self.traversable, return_indices=True
+            )
+            self._snap_dist, self._snap_cell = dist * r, nearest
+        else:
+            self._snap_dist, self._snap_cell = None, None
+
+    def free_for(self, radius: float) -> BoolArray:
+        """``(height, width)``: cells a disc of ``radius`` m may stand on anywhere."""
+        return np.asarray(self.clearance >= radius + _SQRT2 * self.grid.resolution)
+
+    def _build_graph(self) -> sparse.csr_matrix:
+        t, node, r = self.traversable, self._node, self.grid.resolution
+        rows: list[NDArray[np.int64]] = []
+        cols: list[NDArray[np.int64]] = []
+        weights: list[FloatArray] = []
+
+        def link(a: tuple[slice, slice], b: tuple[slice, slice], ok: BoolArray, w: float) -> None:
+            rows.append(node[a][ok])
+            cols.append(node[b][ok])
+            weights.append(np.full(int(ok.sum()), w))
+
+        whole, head, tail = slice(None), slice(None, -1), slice(1, None)
+        link((whole, head), (whole, tail), t[:, :-1] & t[:, 1:], r)  # east
+        link((head, whole), (tail, whole), t[:-1, :] & t[1:, :], r)  # north
+        square = t[:-1, :-1] & t[1:, 1:] & t[:-1, 1:] & t[1:, :-1]  # no corner cutting
+        link((head, head), (tail, tail), square, _SQRT2 * r)  # north-east
+        link((head, tail), (tail, head), square, _SQRT2 * r)  # north-west
+        n = int(t.sum())
+        return sparse.coo_matrix(
+            (np.concatenate(weights), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(n, n),
+        ).tocsr()
+
+    def _cell(self, xy: ArrayLike) -> tuple[int, int, bool] | None:
+        """Traversable cell ``(row, col, exact)`` for a point: its own (``exact``) or the
+        nearest within ``tolerance``; None when there is none."""
+        rows, cols = self.grid.cells_of(np.asarray(xy, dtype=np.float64)[:2])
+        row, col = int(rows[0]), int(cols[0])
+        if self._snap_dist is None or self._snap_cell is None:
+            return None
+        h, w = self.traversable.shape
+        inside = 0 <= row < h and 0 <= col < w
+        if inside and self.traversable[row, col]:
+            return row, col, True
+        # outside the grid: the nearest border cell's nearest traversable cell, checked below
+        r_in, c_in = min(max(row, 0), h - 1), min(max(col, 0), w - 1)
+        rr, cc = int(self._snap_cell[0, r_in, c_in]), int(self._snap_cell[1, r_in, c_in])
+        centre = self.grid.centres([rr], [cc])[0]
+        point = np.asarray(xy, dtype=np.float64)[:2]
+        if float(np.hypot(*(centre - point))) > self.tolerance + self.grid.resolution:
+            return None
+        return rr, cc, False
+
+    def plan(self, start: ArrayLike, goal: ArrayLike) -> FloatArray | None:
+        """A collision-free path ``(k, 2)`` (m, ``map``) from ``start`` to ``goal`` (x, y),
+        shortest on the grid then pulled straight; None when there is none."""
+        a, b = self._cell(start), self._cell(goal)
+        if a is None or b is None:
+            return None
+        source, target = int(self._node[a[0], a[1]]), int(self._node[b[0], b[1]])
+        _, pred = csgraph.dijkstra(
+            self._graph, directed=False, indices=source, return_predecessors=True
+        )
+        if source != target and pred[target] < 0:
+            return None
+        chain = [target]
+        while chain[-1] != source:
+            chain.append(int(pred[chain[-1]]))
+        cells = np.argwhere(self.traversable)[chain[::-1]]  # node order is row-major
+        points = self.grid.centres(cells[:, 0], cells[:, 1])
+        ends = [np.asarray(start, dtype=np.float64)[None, :2]] if a[2] else []
+        tail = [np.asarray(goal, dtype=np.float64)[None, :2]] if b[2] else []
+        return self.shortcut(np.concatenate([*ends, points, *tail]))
+
+    def shortcut(self, points: FloatArray) -> FloatArray:
+        """The path pulled straight (module docstring, step 3)."""
+        keep = [0]
+        i, last = 0, len(points) - 1
+        while i < last:
+            j = i + 1
+            while j < last and self.visible(points[i], points[j + 1]):
+                j += 1
+            keep.append(j)
+            i = j
+        return points[keep]
+
+    def visible(self, a: ArrayLike, b: ArrayLike, radius: float | None = None) -> bool:
+        """Whether a disc of ``radius`` m (None: the planner's) may travel the segment
+        ``a -> b``: every cell it crosses is free for it (:meth:`free_for`)."""
+        rows, cols = self.crossed_cells(a, b)
+        h, w = self.traversable.shape
+        if rows.min() < 0 or cols.min() < 0 or rows.max() >= h or cols.max() >= w:
+            return False
+        if radius is None:
+            return bool(self.traversable[rows, cols].all())
+        need = radius + _SQRT2 * self.grid.resolution
+        return bool((self.clearance[rows, cols] >= need).all())
+
+    def crossed_cells(self, a: ArrayLike, b: ArrayLike) -> tuple[NDArray[np.int64], ...]:
+        """``(rows, cols)`` of every cell whose interior the segment ``a -> b`` enters: the
+        cells of the midpoints between its successive grid-line crossings."""
+        p, q = self.grid.to_local(np.stack([a, b])[:, :2]) / self.grid.resolution
+        d = q - p
+        ts = [np.array([0.0, 1.0])]
+        for k in (0, 1):
+            if d[k] != 0.0:
+                lo, hi = sorted((p[k], q[k]))
+                lines = np.arange(math.ceil(lo), math.floor(hi) + 1, dtype=np.float64)
+                ts.append((lines - p[k]) / d[k])
+        t = np.unique(np.clip(np.concatenate(ts), 0.0, 1.0))
+        mid = p + ((t[:-1] + t[1:]) / 2.0)[:, None] * d if len(t) > 1 else p[None, :]
+        cells = np.floor(mid).astype(np.int64)
+        return cells[:, 1], cells[:, 0]
+
+
+def plan_path(
+    grid: OccupancyGrid,
+    start: ArrayLike,
+    goal: ArrayLike,
+    radius: float,
+    *,
+    allow_unknown: bool = True,
+    tolerance: float | None = None,
+) -> FloatArray | None:
+    """One path with a fresh :class:`GridPlanner` (see there); None when there is none."""
+    planner = GridPlanner(grid, radius, allow_unknown=allow_unknown, tolerance=tolerance)
+    return planner.plan(start, goal)

@@ -1,0 +1,57 @@
+"""The planner with a global plan: the genome's network steered along a path (Nav2's
+planner / controller split, with the evolved network as the controller).
+
+:class:`GuidedPlanner` decides as :class:`~mentor_core.runtime.planner.GenomePlanner` does,
+the same network inputs and actions, but the goal its network sees is the one a
+:class:`~mentor_core.navigation.guide.PathGuide` gives: the carrot a lookahead distance along
+the global path (given, or planned on the map it was handed), the final goal near the path's
+end. The planner node calls it with the map and paths it receives; ``mentor-eval
+--global-plan`` runs the same guide offline (:func:`mentor_core.navigation.guide.guided_goals`).
+
+:func:`wire_grid` is the grid a ``nav_msgs/OccupancyGrid`` carries (its resolution is a
+float32), so an in-process episode plans on exactly what the planner node receives.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from mentor_core.navigation.grid import OccupancyGrid
+from mentor_core.navigation.guide import GuideConfig, PathGuide
+from mentor_core.runtime.planner import GenomePlanner
+
+
+def wire_grid(grid: OccupancyGrid) -> OccupancyGrid:
+    """``grid`` as a ``nav_msgs/OccupancyGrid`` carries it: the resolution rounded to float32."""
+    return replace(grid, resolution=float(np.float32(grid.resolution)))
+
+
+class GuidedPlanner:
+    """An evolved genome steering towards a guide's goal (module docstring).
+
+    Args:
+        planner: the genome's planner (network, profile, limits).
+        config: the guide's settings (:func:`mentor_core.navigation.guide.guide_config`).
+    """
+
+    def __init__(self, planner: GenomePlanner, config: GuideConfig) -> None:
+        self.planner = planner
+        self.guide = PathGuide(config)
+
+    def set_map(self, grid: OccupancyGrid) -> None:
+        """Plan on ``grid`` from now on (see :meth:`PathGuide.set_map`)."""
+        self.guide.set_map(grid)
+
+    def set_path(self, path: ArrayLike) -> None:
+        """Follow ``path`` ``(k, 2)`` until the goal changes (see :meth:`PathGuide.set_path`)."""
+        self.guide.set_path(path)
+
+    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+        """Decision ``(dtheta, ds)`` (rad, m) as :meth:`GenomePlanner.decide`, the network
+        seeing the guide's goal instead of ``goal``."""
+        p = np.asarray(pose, dtype=np.float64).reshape(3)
+        aim = self.guide.target(p[:2], goal)
+        return self.planner.decide(ranges, p, aim)

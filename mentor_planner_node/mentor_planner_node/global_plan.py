@@ -1,0 +1,149 @@
+"""The planner node's global plan (``global_plan:=true``): Nav2's planner / controller split,
+with the evolved network as the controller.
+
+The node follows a ``nav_msgs/Path`` it is given on ``plan`` (until its goal changes) or plans
+one itself on the ``nav_msgs/OccupancyGrid`` it receives on ``map_topic`` (``/map``, latched),
+and steers its network towards the point ``lookahead`` m along that path
+(:class:`mentor_core.GuidedPlanner`); it publishes the path it follows on ``global_plan``
+(latched, for RViz). Until a map or a path has come it does not decide (as Nav2's controller
+has nothing to follow): an observation waits for it, and the node's watchdog sends zero
+Twists with a warning if it does not come. Everything computed is ``mentor_core``; this
+module declares the parameters, makes the topics and converts the messages
+(:mod:`.conversions`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
+from nav_msgs.msg import Path
+from numpy.typing import ArrayLike
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from mentor_core import GenomePlanner, GuidedPlanner, guide_config
+from mentor_planner_node import conversions
+
+WARN_EVERY_S = 5.0
+#: the map: latched, as map_server and the simulator publish it
+QOS_MAP = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+#: a given path: volatile, so plain and latched publishers both match
+QOS_PATH_IN = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE)
+#: the path followed: latched, so RViz shows it when it subscribes late
+QOS_PATH_OUT = QOS_MAP
+
+
+def _descriptor(text: str, low: float | None = None) -> ParameterDescriptor:
+    extra: dict[str, Any] = {}
+    if low is not None:
+        extra["floating_point_range"] = [FloatingPointRange(from_value=low, to_value=1e9)]
+    return ParameterDescriptor(description=text, read_only=True, **extra)
+
+
+class GlobalPlan:
+    """Topics and decisions of a planner node with a global plan (module docstring)."""
+
+    def __init__(
+        self,
+        node: Node,
+        planner: GenomePlanner,
+        values: dict[str, Any],
+        on_ready: Callable[[], None],
+    ) -> None:
+        self._node = node
+        self._on_ready = on_ready
+        self._log = node.get_logger()
+        config = guide_config(
+            planner.profile,
+            lookahead=float(values["lookahead"]),
+            replan_distance=float(values["replan_distance"]),
+            margin=float(values["inflation_margin"]),
+            allow_unknown=bool(values["allow_unknown"]),
+        )
+        self.planner = GuidedPlanner(planner, config)
+        self._published = 0
+        self._path_pub = node.create_publisher(Path, "global_plan", QOS_PATH_OUT)
+        self._map_sub = node.create_subscription(
+            OccupancyGridMsg, str(values["map_topic"]), self._on_map, QOS_MAP
+        )
+        self._path_sub = node.create_subscription(Path, "plan", self._on_path, QOS_PATH_IN)
+
+    @property
+    def ready(self) -> bool:
+        """A map or a path has come: there is something to follow."""
+        guide = self.planner.guide
+        return guide.planner is not None or guide.path is not None
+
+    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+        """The guided decision; a new path is published once on ``global_plan``."""
+        decision = self.planner.decide(ranges, pose, goal)
+        guide = self.planner.guide
+        if guide.revision != self._published and guide.path is not None:
+            self._published = guide.revision
+            stamp = self._node.get_clock().now().to_msg()
+            self._path_pub.publish(conversions.path_msg(guide.path, stamp))
+        return decision
+
+    def _on_map(self, msg: OccupancyGridMsg) -> None:
+        try:
+            grid = conversions.grid_from_occupancy_grid(msg)
+        except ValueError as err:
+            self._log.warning(f"map rejected: {err}")
+            return
+        self.planner.set_map(grid)
+        self._log.info(f"planning on a {grid.width}x{grid.height} map of {grid.resolution:g} m")
+        self._on_ready()
+
+    def _on_path(self, msg: Path) -> None:
+        try:
+            path = conversions.path_from_msg(msg)
+        except ValueError as err:
+            self._log.warning(f"path rejected: {err}", throttle_duration_sec=WARN_EVERY_S)
+            return
+        self.planner.set_path(path)
+        self._on_ready()
+
+
+def attach(
+    node: Node, planner: GenomePlanner | None, on_ready: Callable[[], None]
+) -> GlobalPlan | None:
+    """Declare the global-plan parameters (defaults from the robot, ``docs/ros.md``); a
+    :class:`GlobalPlan` when ``global_plan`` is true and a genome is loaded, else None.
+    ``on_ready`` is called when a map or a path comes (a waiting observation may go)."""
+    profile = planner.profile if planner is not None else None
+    defaults = guide_config(profile) if profile is not None else None
+    declared = node.declare_parameters(
+        "",
+        [
+            ("global_plan", False, _descriptor("follow a Path on 'plan' or plan on the map")),
+            ("map_topic", "/map", _descriptor("OccupancyGrid to plan on (latched)")),
+            (
+                "lookahead",
+                defaults.lookahead if defaults else 1.0,
+                _descriptor("m along the path the network steers to", low=1e-3),
+            ),
+            (
+                "replan_distance",
+                defaults.replan_distance if defaults else 1.0,
+                _descriptor("m off the path before planning again", low=1e-3),
+            ),
+            (
+                "inflation_margin",
+                defaults.margin if defaults else 0.0,
+                _descriptor("m added to the footprint's radius when planning", low=0.0),
+            ),
+            ("allow_unknown", True, _descriptor("plan through unknown map cells")),
+        ],
+    )
+    values = {p.name: p.value for p in declared}
+    if not values["global_plan"] or planner is None:
+        return None
+    return GlobalPlan(node, planner, values, on_ready)

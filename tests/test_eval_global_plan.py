@@ -1,0 +1,76 @@
+"""mentor-eval --global-plan (each genome also along a global plan, beside its plain run) and
+--map (the world from a ROS map), and their bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mentor_core.cli.evaluate import main as mentor_eval
+from mentor_core.files.bags import read_episode_bag
+from mentor_core.navigation.grid import world_grid
+from mentor_core.navigation.map_file import save_map
+from mentor_core.runtime.recording import recorded_episodes
+from mentor_core.sim.world import Scenario, World, save_world
+
+ROOT = Path(__file__).resolve().parents[1]
+UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
+DEAD_END = World(
+    12.0, np.array([[7.0, 3.5, 7.3, 8.5], [4.5, 3.5, 7.3, 3.8], [4.5, 8.2, 7.3, 8.5]]),
+    name="dead-end",
+)
+
+
+def test_global_plan_runs_beside_the_plain_run_and_records_both(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    world_file = tmp_path / "dead_end.yaml"
+    save_world(world_file, DEAD_END, [Scenario(DEAD_END, (2.0, 6.0, 0.0), (10.0, 6.0))])
+    out, bag = tmp_path / "eval.json", tmp_path / "episodes"
+    args = [str(UGV_GENOME), "--robot", "ugv", "--world", str(world_file), "--global-plan"]
+    assert mentor_eval([*args, "--label", "ref", "--out", str(out), "--record", str(bag)]) == 0
+    printed = capsys.readouterr()
+    assert "ref +global-plan" in printed.out
+    runs = json.loads(out.read_text())["runs"]
+    assert [r["genome"] for r in runs] == ["ref", "ref +global-plan"]
+    assert [r["summary"]["success_rate"] for r in runs] == [0.0, 1.0]
+    # the recording: robot_0 the plain run, robot_1 along the plan, as in the table
+    recorded = {(e.setup.name, e.outcome) for e in recorded_episodes(read_episode_bag(bag))}
+    assert recorded == {("robot_0", "timed_out"), ("robot_1", "reached")}
+    assert "in the recording" not in printed.err
+
+
+def test_a_world_from_a_ros_map(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    save_map(tmp_path / "dead_end.yaml", world_grid(DEAD_END, 0.05))
+    out = tmp_path / "eval.json"
+    args = [str(UGV_GENOME), "--robot", "ugv", "--map", str(tmp_path / "dead_end.yaml")]
+    assert mentor_eval([*args, "--n", "3", "--seed", "4", "--out", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["source"].endswith("dead_end.yaml seed 4")
+    assert len(doc["scenarios"]) == 3 and doc["world"]["size"] == pytest.approx(12.0)
+    assert len(doc["world"]["obstacles"]) == 3  # the U's cells merged back into 3 boxes
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    ("args", "fault"),
+    [
+        (["--robot", "ugv", "--map", "{tmp}/missing.yaml"], "missing.yaml: cannot read map"),
+        (["--robot", "ugv", "--map", "{tmp}/bad.yaml"], "bad.yaml: missing key 'image'"),
+        (["--robot", "ugv", "--world", "{tmp}/w.yaml", "--seed", "3"], "not with --bag"),
+        (["--robot", "ugv"], "give --bag, --world, --map or --seed"),
+        (["--robot", "ugv", "--seed", "1", "--lookahead", "-1"], "--lookahead must be"),
+    ],
+)
+def test_bad_arguments_and_map_files_exit_2_with_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str], fault: str
+) -> None:
+    (tmp_path / "bad.yaml").write_text("resolution: 0.05\n")
+    save_world(tmp_path / "w.yaml", DEAD_END, [Scenario(DEAD_END, (2.0, 6.0, 0.0), (10.0, 6.0))])
+    argv = [str(UGV_GENOME), *(a.format(tmp=tmp_path) for a in args)]
+    assert mentor_eval(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert fault in err and len(err.splitlines()) == 1

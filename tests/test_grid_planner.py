@@ -1,0 +1,118 @@
+"""The grid planner: paths that keep a disc clear of every obstacle, close to the shortest
+path for that disc (known in closed form round a wall's end), unknown cells, no-path cases."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mentor_core.navigation.follow import cumulative_length, point_at
+from mentor_core.navigation.grid import UNKNOWN, OccupancyGrid, world_grid
+from mentor_core.navigation.grid_planner import GridPlanner, plan_path
+from mentor_core.sim.collision import robot_collides
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.world import World
+
+RES = 0.05
+# a thin wall from the floor up to y = 6 at x = 5.9..6.1; start and goal low on either side
+WALL = World(12.0, np.array([[5.9, 0.0, 6.1, 6.0]]))
+START, GOAL = (2.0, 1.0), (10.0, 2.0)
+
+
+def _samples(path: np.ndarray, step: float = RES / 10) -> np.ndarray:
+    length = cumulative_length(path)[-1]
+    return np.array([point_at(path, s) for s in np.arange(0.0, length + step, step)])
+
+
+def _around_wall_end(rho: float) -> float:
+    """The shortest path length from START to GOAL for a disc of radius ``rho``: over the
+    wall's end, the inflated wall's top a straight piece between two rounded corners; from
+    each end point a tangent to its corner's circle, then the arc up to the top."""
+    total = 0.2  # across the wall's top
+    for point, corner in ((START, (5.9, 6.0)), (GOAL, (6.1, 6.0))):
+        d = math.dist(point, corner)
+        from_up = math.acos((point[1] - corner[1]) / d)  # angle of the point from straight up
+        total += math.sqrt(d * d - rho * rho) + rho * (from_up - math.acos(rho / d))
+    return total
+
+
+def test_round_a_wall_end_the_path_is_clear_and_close_to_the_shortest() -> None:
+    radius = 0.3
+    path = plan_path(world_grid(WALL, RES), START, GOAL, radius)
+    assert path is not None
+    np.testing.assert_allclose(path[0], START)
+    np.testing.assert_allclose(path[-1], GOAL)
+    assert len(path) < 12  # pulled straight, not one vertex per cell
+    # collision-free for the disc: every point at least `radius` from the wall and the arena
+    assert WALL.signed_distance(_samples(path)).min() >= radius - 1e-9
+    # and for the UGV's body (inside the disc) at any heading
+    ugv = get_profile("ugv")
+    pts = _samples(path, 0.05)
+    for heading in np.linspace(-np.pi, np.pi, 9):
+        poses = np.c_[pts, np.full(len(pts), heading)]
+        assert not robot_collides(poses, ugv, WALL).any()
+    # no path clear of the disc is shorter than the exact one; ours is within the grid's
+    # inflation (the planner keeps radius + sqrt(2) r from cell centres) of it
+    length = cumulative_length(path)[-1]
+    assert _around_wall_end(radius) <= length <= 1.01 * _around_wall_end(radius + 3 * RES)
+
+
+def test_in_open_space_the_path_is_the_straight_line() -> None:
+    world = World(6.0, np.zeros((0, 4)))
+    path = plan_path(world_grid(world, 0.1), (1.03, 1.21), (4.88, 5.02), 0.2)
+    assert path is not None
+    np.testing.assert_allclose(path, [(1.03, 1.21), (4.88, 5.02)])
+
+
+def test_a_doorway_narrower_than_the_disc_is_closed() -> None:
+    # a wall across the arena with a 0.8 m door
+    world = World(6.0, np.array([[0.0, 2.9, 2.6, 3.1], [3.4, 2.9, 6.0, 3.1]]))
+    grid = world_grid(world, RES)
+    through = plan_path(grid, (3.0, 1.0), (3.0, 5.0), 0.3)
+    assert through is not None
+    assert world.signed_distance(_samples(through)).min() >= 0.3 - 1e-9
+    assert plan_path(grid, (3.0, 1.0), (3.0, 5.0), 0.45) is None
+
+
+def test_unknown_cells_are_free_or_obstacles_as_asked() -> None:
+    data = np.zeros((60, 60), dtype=np.int8)
+    data[28:32, :] = UNKNOWN  # an unexplored band across the map
+    grid = OccupancyGrid(0.1, (0.0, 0.0, 0.0), data)
+    assert plan_path(grid, (3.0, 1.0), (3.0, 5.0), 0.2, allow_unknown=True) is not None
+    assert plan_path(grid, (3.0, 1.0), (3.0, 5.0), 0.2, allow_unknown=False) is None
+
+
+def test_start_and_goal_beside_walls_move_onto_the_nearest_traversable_cell() -> None:
+    world = World(6.0, np.array([[2.0, 0.0, 2.2, 6.0]]))
+    planner = GridPlanner(world_grid(world, RES), 0.3)
+    path = planner.plan((1.85, 3.0), (1.0, 1.0))  # start 0.15 m from the wall
+    assert path is not None
+    assert math.dist(path[0], (1.85, 3.0)) <= planner.tolerance + RES
+    assert world.signed_distance(_samples(path)).min() >= 0.3 - 1e-9
+    # deep inside the wall, or out of the arena: farther than the tolerance, no plan
+    assert planner.plan((2.1, 3.0), (1.0, 1.0)) is None
+    assert planner.plan((1.0, 1.0), (8.0, 1.0)) is None
+    # the other side of a wall that closes the arena: no plan either
+    assert planner.plan((1.0, 1.0), (4.0, 1.0)) is None
+
+
+def test_crossed_cells_are_exactly_the_cells_a_segment_enters() -> None:
+    grid = OccupancyGrid(1.0, (0.0, 0.0, 0.0), np.zeros((5, 5), dtype=np.int8))
+    planner = GridPlanner(grid, 0.0)
+    rows, cols = planner.crossed_cells((0.5, 0.5), (3.5, 1.5))
+    assert sorted(zip(rows.tolist(), cols.tolist(), strict=True)) == [
+        (0, 0), (0, 1), (1, 2), (1, 3)
+    ]  # through the corner (2, 1): the two cells it only touches are not entered
+    rows, cols = planner.crossed_cells((0.5, 0.5), (0.5, 3.2))
+    assert cols.tolist() == [0, 0, 0, 0] and rows.tolist() == [0, 1, 2, 3]
+
+
+def test_planning_on_a_rotated_map() -> None:
+    # the wall map turned a quarter turn about the map origin: the path turns with it
+    grid = world_grid(WALL, 0.1)
+    turned = OccupancyGrid(0.1, (0.0, 0.0, math.pi / 2), grid.data)
+    path = plan_path(turned, (-START[1], START[0]), (-GOAL[1], GOAL[0]), 0.3)
+    assert path is not None
+    back = np.c_[path[:, 1], -path[:, 0]]  # undo the turn
+    assert WALL.signed_distance(_samples(back)).min() >= 0.3 - 1e-9

@@ -1,0 +1,114 @@
+"""Global plans through ROS: the simulator on a ROS map with a dead end publishes /map, the
+planner node plans on it, steers round the dead end and reaches the goal, publishing the path
+it follows; the episode equals the in-process one (the same guide on the grid the wire
+carries) exactly. A path given on ``plan`` is followed instead of planning."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
+from nav_msgs.msg import Path as PathMsg
+from ros_support import REGRESSION, Graph, params
+
+from mentor_core.files.bags import read_episode_bag
+from mentor_core.navigation.grid import world_grid
+from mentor_core.navigation.guide import guide_config
+from mentor_core.navigation.map_file import save_map
+from mentor_core.runtime.guided_planner import GuidedPlanner, wire_grid
+from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.recording import recorded_episodes
+from mentor_core.runtime.scenario_plan import load_scenario_source, source_map
+from mentor_core.runtime.simulator import run_reference_episode
+from mentor_core.sim.world import World
+from mentor_planner_node.conversions import path_msg
+from mentor_planner_node.global_plan import QOS_MAP, QOS_PATH_OUT
+from mentor_planner_node.planner import PlannerNode
+from mentor_sim_node.sim import SimNode
+
+pytestmark = pytest.mark.ros
+
+GENOME = REGRESSION / "ugv_reference_genome.json"
+# a U open towards the start, its back wall between start and goal: a dead end
+DEAD_END = World(
+    12.0, np.array([[7.0, 3.5, 7.3, 8.5], [4.5, 3.5, 7.3, 3.8], [4.5, 8.2, 7.3, 8.5]])
+)
+WORLD_FILE = (
+    "format: mentor-world\nversion: 1\nmap: dead_end.yaml\n"
+    "scenarios: [{start: [2.0, 6.0, 0.0], goal: [10.0, 6.0]}]\n"
+)
+
+
+def _planner(graph: Graph, **extra: object) -> PlannerNode:
+    values = {"genome": str(GENOME), "profile": "ugv", "use_sim_time": True, **extra}
+    overrides = params(**values)
+    return graph.add(
+        PlannerNode(context=graph.context, namespace="/robot_0", parameter_overrides=overrides)
+    )
+
+
+def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
+    graph: Graph, tmp_path: Path
+) -> None:
+    save_map(tmp_path / "dead_end.yaml", world_grid(DEAD_END, 0.05))
+    (tmp_path / "world.yaml").write_text(WORLD_FILE)
+    bag = tmp_path / "episodes"
+    probe = graph.probe()
+    maps: list[OccupancyGridMsg] = []
+    paths: list[PathMsg] = []
+    probe.create_subscription(OccupancyGridMsg, "/map", maps.append, QOS_MAP)
+    probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
+    planner = _planner(graph, global_plan=True)
+    sim = graph.add(
+        SimNode(
+            context=graph.context,
+            parameter_overrides=params(
+                robots=["robot_0"], profiles=["ugv"], world=str(tmp_path / "world.yaml"),
+                episodes=1, record=str(bag), time_limit=50.0,
+            ),
+        )
+    )
+    assert graph.spin_until(lambda: sim.finished)
+    graph.spin_until(lambda: bool(maps) and bool(paths), timeout=2.0)
+    assert [o.event for o in sim.outcomes] == ["reached"]
+    assert planner.zero_commands == 0
+    # /map: the simulated world on the map's cells, latched
+    assert len(maps) == 1 and maps[0].header.frame_id == "map"
+    assert (maps[0].info.width, maps[0].info.height) == (240, 240)
+    # the path it followed, round the U
+    assert paths and paths[0].header.frame_id == "map"
+    ys = [p.pose.position.y for p in paths[0].poses]
+    assert min(ys) < 3.5 or max(ys) > 8.5
+
+    # the same episode in process: the guide on the grid the wire carries
+    source = load_scenario_source(world_file=tmp_path / "world.yaml")
+    plain = GenomePlanner.load(GENOME, "ugv")
+    guided = GuidedPlanner(plain, guide_config(plain.profile))
+    guided.set_map(wire_grid(source_map(source, 0.05)))
+    run = recorded_episodes(read_episode_bag(bag), bag)[0]
+    ref = run_reference_episode(source.world, [run.setup], {"robot_0": guided.decide})["robot_0"]
+    assert run.outcome == ref.outcome == "reached"
+    poses = np.array([o.pose for o in run.odometry])
+    assert len(poses) == ref.steps + 1
+    np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
+
+
+def test_a_given_path_is_followed_and_published(graph: Graph) -> None:
+    probe = graph.probe()
+    paths: list[PathMsg] = []
+    probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
+    planner = _planner(graph, global_plan=True, map_topic="/no_map_here")
+    assert planner.global_plan is not None and not planner.global_plan.ready
+    give = probe.create_publisher(PathMsg, "/robot_0/plan", 1)
+    points = np.array([(1.0, 1.0), (5.0, 1.0), (5.0, 5.0)])
+    given = path_msg(points, probe.get_clock().now().to_msg())
+    assert graph.spin_until(lambda: give.get_subscription_count() > 0)
+    give.publish(given)
+    assert graph.spin_until(lambda: planner.global_plan.ready)  # type: ignore[union-attr]
+    guide = planner.global_plan.planner.guide  # type: ignore[union-attr]
+    np.testing.assert_array_equal(guide.path, points)
+    # the network is steered along it: the carrot 2 m on from (2, 1.2) is (4, 1)
+    guide.target((2.0, 1.2), (5.0, 5.0))
+    assert guide.carrot == pytest.approx((4.0, 1.0))
