@@ -4,7 +4,7 @@
 it. It hands every robot its scenario per episode (:class:`ScenarioPlan`), steps the
 :class:`~mentor_core.runtime.simulator.ReferenceSimulator`, collects the robots' commands
 (:mod:`mentor_core.runtime.lockstep`), takes the goals users give the robots
-(:mod:`mentor_core.runtime.session_goals`), keeps sim time (from 0; the next episode starts one
+(:mod:`mentor_core.runtime.goal_intake`), keeps sim time (from 0; the next episode starts one
 step after the last one ended, so no stamp belongs to two episodes), the episode counters and
 every robot's :class:`Outcome`, and records. Its output goes, in order, to a
 :class:`SessionPort` (:mod:`mentor_core.runtime.session_output`): poses in ``odom``, goals in
@@ -38,6 +38,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Mapping, Sequence
 
+from mentor_core.runtime.goal_intake import goal_in_map, same_goal, session_frames
 from mentor_core.runtime.lockstep import (
     HOLD,
     CommandBarrier,
@@ -56,7 +57,6 @@ from mentor_core.runtime.session_config import (
     SessionPort,
     Tick,
 )
-from mentor_core.runtime.session_goals import goal_in_map, session_frames
 from mentor_core.runtime.session_output import SessionOutput, session_recorder
 from mentor_core.runtime.simulator import Event, EventKind, ReferenceSimulator, RobotSetup
 from mentor_core.sim.transforms import FrameTree
@@ -182,7 +182,7 @@ class SimSession:
         self._sim.goal_radius = radius
 
     def frames(self) -> FrameTree:
-        """The frames now (:func:`~mentor_core.runtime.session_goals.session_frames`)."""
+        """The frames now (:func:`~mentor_core.runtime.goal_intake.session_frames`)."""
         return session_frames(self._sim, self._wiring)
 
     # ------------------------------------------------------------------ driving
@@ -261,7 +261,8 @@ class SimSession:
             if name not in self._profiles:
                 continue
             if name in self._sim.active:
-                self._change_goal(name, goal)
+                if not same_goal(self._sim.state(name).goal, goal):
+                    self._change_goal(name, goal)
             else:
                 self._pending_goals[name] = goal
                 if name in self._sim.waiting and self._at_boundary():
