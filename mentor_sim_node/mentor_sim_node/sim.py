@@ -76,7 +76,7 @@ class SimNode(Node):
         #: the episodes being run: everything the node computes
         self.session = session = SimSession(source, cfg, self._topics)
         self._goal_pose_subs = (
-            subscribe_goals(self, p.goal_pose_topic, self._on_goal_pose)
+            subscribe_goals(self, p.goal_pose_topic, self._on_goal_pose, latched=False)
             if p.goal_pose_topic
             else []
         )

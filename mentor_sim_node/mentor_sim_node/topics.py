@@ -1,8 +1,8 @@
 """The simulator node's publishers and subscriptions per robot, as the session's output port.
 
 Per robot ``<ns>``: ``scan`` (its per-sensor LaserScan), ``lidar/scan`` (a simulated lidar,
-when ``lidar_rays`` > 0), ``odom``, ``goal`` (latched; also subscribed, with a latched and a
-volatile subscription, so that any publisher's goal reaches the simulator), ``events``,
+when ``lidar_rays`` > 0), ``odom``, ``goal`` (latched; also subscribed, latched and volatile, so that any publisher's
+goal reaches the simulator), ``events``,
 ``robot_description`` (latched URDF) and the ``cmd_vel`` subscription. Shared: ``/clock``,
 ``/mentor/obstacles`` and, where ``tf2_msgs`` imports (a full ROS 2 install), ``/tf`` and
 ``/tf_static``.
@@ -73,13 +73,15 @@ Vec = Sequence[float]
 GoalCallback = Callable[[PoseStamped], None]
 
 
-def subscribe_goals(node: Node, topic: str, callback: GoalCallback) -> list[Any]:
-    """Two subscriptions to a goal topic: a latched one (the last goal of a latched
-    publisher, also when it came before) and a volatile one (every ordinary publisher)."""
-    return [
-        node.create_subscription(PoseStamped, topic, callback, QOS_LATCHED),
-        node.create_subscription(PoseStamped, topic, callback, QOS_GOAL),
-    ]
+def subscribe_goals(
+    node: Node, topic: str, callback: GoalCallback, latched: bool
+) -> list[Any]:
+    """A volatile subscription to a goal topic (it matches every publisher) and, with
+    ``latched``, a latched one (the last goal a latched publisher sent before)."""
+    subs = [node.create_subscription(PoseStamped, topic, callback, QOS_GOAL)]
+    if latched:
+        subs.append(node.create_subscription(PoseStamped, topic, callback, QOS_LATCHED))
+    return subs
 
 
 class _Robot:
@@ -105,7 +107,7 @@ class _Robot:
         self.events_pub = node.create_publisher(String, f"{name}/events", QOS_EVENTS)
         self.urdf_pub = node.create_publisher(String, f"{name}/robot_description", QOS_LATCHED)
         self.cmd_sub = node.create_subscription(Twist, f"{name}/cmd_vel", on_cmd, QOS_COMMAND)
-        self.goal_subs = subscribe_goals(node, f"{name}/goal", on_goal)
+        self.goal_subs = subscribe_goals(node, f"{name}/goal", on_goal, latched=True)
         self.last: list[tuple[Any, Any]] = []  # (publisher, message) of the last observation
         self.lidar_msg: tuple[Any, Any] | None = None  # the scan going with the next one
         #: (stamp, x, y) of the goals this node published: their echo is not a new goal

@@ -111,6 +111,7 @@ _EXPORTS: dict[str, str] = {
     "SessionPort": "mentor_core.runtime.sim_session",
     "Outcome": "mentor_core.runtime.sim_session",
     "Wiring": "mentor_core.runtime.wiring",
+    "PlannerFrames": "mentor_core.runtime.planner_frames",
     "ContinuousConfig": "mentor_core.runtime.session_config",
     "bounds_fault": "mentor_core.runtime.goal_intake",
     "Bounds": "mentor_core.runtime.goal_intake",
@@ -243,6 +244,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.planner import (
         GenomePlanner as GenomePlanner,
+    )
+    from mentor_core.runtime.planner_frames import (
+        PlannerFrames as PlannerFrames,
     )
     from mentor_core.runtime.recording import (
         EpisodeRecorder as EpisodeRecorder,

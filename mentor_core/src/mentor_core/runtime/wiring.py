@@ -95,14 +95,18 @@ class Wiring:
         return lidar_scan(physics, robot, self.lidar, rng)
 
     def scan_data(self, ranges: ArrayLike) -> LaserScanData:
-        """The lidar scan as the planner receives it (float32 ranges)."""
+        """The lidar scan as the planner receives it (float32 fields)."""
         if self.lidar is None:
             raise ValueError("no lidar configured")
-        wired = np.asarray(ranges, dtype=np.float64).astype(np.float32).astype(np.float64)
         spec = self.lidar
-        return LaserScanData(
-            spec.angle_min, spec.angle_increment, spec.range_min, spec.range_max, wired
-        )
+        # a LaserScan's angles, range limits and ranges are all float32
+        head = np.array(
+            [spec.angle_min, spec.angle_increment, spec.range_min, spec.range_max],
+            dtype=np.float32,
+        ).astype(np.float64)
+        wired = np.asarray(ranges, dtype=np.float64).astype(np.float32).astype(np.float64)
+        a_min, a_inc, r_min, r_max = (float(v) for v in head)
+        return LaserScanData(a_min, a_inc, r_min, r_max, wired)
 
     def readings(self, ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
         """The planner's readings of a lidar scan (the ranges the simulator cast)."""
