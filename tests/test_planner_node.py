@@ -261,7 +261,7 @@ def test_a_goal_outside_the_arena_is_refused(
 def test_any_lidar_scan_is_read_from_its_mount(graph: Graph) -> None:
     """Failed before: a scan of another ray count than the profile's sensors was refused."""
     mount = Transform2D(0.02, -0.01, 0.3)
-    planner = _planner(graph, lidar_mount=list(mount.as_tuple()))
+    _planner(graph, lidar_mount=list(mount.as_tuple()))
     robot = Robot(graph)
     world = World(4.0, np.array([[1.5, 0.8, 1.7, 1.6]]))
     pose = (1.0, 1.0, 0.2)

@@ -1,9 +1,9 @@
 """The simulator node's publishers and subscriptions per robot, as the session's output port.
 
 Per robot ``<ns>``: ``scan`` (its per-sensor LaserScan), ``lidar/scan`` (a simulated lidar,
-when ``lidar_rays`` > 0), ``odom``, ``goal`` (latched; also subscribed, latched and volatile, so that any publisher's
-goal reaches the simulator), ``events``,
-``robot_description`` (latched URDF) and the ``cmd_vel`` subscription. Shared: ``/clock``,
+when ``lidar_rays`` > 0), ``odom``, ``goal`` (latched; also subscribed, latched and volatile,
+so that any publisher's goal reaches the simulator), ``events``, ``robot_description``
+(latched URDF) and the ``cmd_vel`` subscription. Shared: ``/clock``,
 ``/mentor/obstacles`` and, where ``tf2_msgs`` imports (a full ROS 2 install), ``/tf`` and
 ``/tf_static``.
 """
