@@ -52,6 +52,7 @@ from mentor_core import (
     PlannerFrames,
     Transform2D,
     bounds_fault,
+    parameter_fault,
     readings_from_scan,
 )
 from mentor_planner_node import conversions
@@ -310,9 +311,13 @@ class PlannerNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown; a bad setup is one line on stderr and exit status 2."""
+    fault = parameter_fault(sys.argv if args is None else args)
+    if fault:
+        print(f"mentor_planner: bad ROS arguments: {fault}", file=sys.stderr)
+        sys.exit(2)
     try:
         rclpy.init(args=args)
-    except rclpy_implementation.RCLError as err:  # e.g. an unparsable -p value
+    except rclpy_implementation.RCLError as err:  # other arguments rcl cannot parse
         text = " ".join(str(err).split()).split(", at /")[0]
         print(f"mentor_planner: bad ROS arguments: {text}", file=sys.stderr)
         sys.exit(2)

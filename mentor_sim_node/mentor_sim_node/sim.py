@@ -38,6 +38,7 @@ from mentor_core import (
     Outcome,
     SimSession,
     load_scenario_source,
+    parameter_fault,
 )
 from mentor_sim_node import conversions
 from mentor_sim_node.params import SimSetupError, check_runtime, declare_parameters
@@ -244,10 +245,15 @@ class SimNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown; a bad setup is one line on stderr and exit status 2."""
+    fault = parameter_fault(sys.argv if args is None else args)
+    if fault:
+        print(f"mentor_sim: bad ROS arguments: {fault}", file=sys.stderr)
+        sys.exit(2)
     try:
         rclpy.init(args=args)
-    except rclpy_implementation.RCLError as err:  # e.g. an unparsable -p value
-        print(f"mentor_sim: bad ROS arguments: {ros_argument_fault(err)}", file=sys.stderr)
+    except rclpy_implementation.RCLError as err:  # other arguments rcl cannot parse
+        text = " ".join(str(err).split()).split(", at /")[0]
+        print(f"mentor_sim: bad ROS arguments: {text}", file=sys.stderr)
         sys.exit(2)
     try:
         node = SimNode()
@@ -263,16 +269,3 @@ def main(args: list[str] | None = None) -> None:
         node.destroy_node()
         rclpy.try_shutdown()
 
-
-def ros_argument_fault(err: BaseException) -> str:
-    """rcl's complaint about the command line, on one line, with a hint for JSON values (a
-    ``-p`` value is YAML: a JSON object must be quoted as a string)."""
-    text = " ".join(str(err).split()).split(", at /")[0]  # rcl's source lines: not for users
-    return text + JSON_HINT
-
-
-#: how to pass a JSON object as a string parameter (a -p value is parsed as YAML)
-JSON_HINT = (
-    " (a -p value is YAML; give a JSON object as a string: "
-    "-p 'record_metadata:=\"{\\\"who\\\": \\\"review\\\"}\"')"
-)

@@ -112,6 +112,7 @@ _EXPORTS: dict[str, str] = {
     "Outcome": "mentor_core.runtime.sim_session",
     "Wiring": "mentor_core.runtime.wiring",
     "PlannerFrames": "mentor_core.runtime.planner_frames",
+    "parameter_fault": "mentor_core.runtime.ros_arguments",
     "ContinuousConfig": "mentor_core.runtime.session_config",
     "bounds_fault": "mentor_core.runtime.goal_intake",
     "Bounds": "mentor_core.runtime.goal_intake",
@@ -250,6 +251,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.recording import (
         EpisodeRecorder as EpisodeRecorder,
+    )
+    from mentor_core.runtime.ros_arguments import (
+        parameter_fault as parameter_fault,
     )
     from mentor_core.runtime.scenario_plan import (
         ScenarioPlan as ScenarioPlan,
