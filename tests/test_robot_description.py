@@ -6,14 +6,11 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
-from typing import Any
 
 import pytest
-from rosbags.rosbag2 import Reader
-from rosbags.typesys import Stores, get_typestore
+from tf_support import tf_tree
 
 from mentor_core.runtime.recording import EpisodeRecorder, record_planners
-from mentor_core.sim.frames import quaternion_to_yaw
 from mentor_core.sim.robot_description import (
     frame_id,
     robot_links,
@@ -21,7 +18,7 @@ from mentor_core.sim.robot_description import (
     urdf_joints,
 )
 from mentor_core.sim.robots import get_profile
-from mentor_core.sim.transforms import FrameTree, Transform2D
+from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import Scenario, World
 
 UGV = get_profile("ugv")
@@ -60,38 +57,14 @@ def test_the_urdf_never_disagrees_with_the_frames() -> None:
         urdf_joints("<robot")
 
 
-def _tf_tree(bag: Path) -> tuple[FrameTree, dict[str, list[int]]]:
-    """The TF tree of a bag read with rosbags' Reader and typestore: static transforms, and
-    the first of each moving one; plus the stamps of every moving child frame."""
-    ts = get_typestore(Stores.ROS2_JAZZY)
-    tree = FrameTree()
-    stamps: dict[str, list[int]] = {}
-    with Reader(bag) as reader:
-        conns = [c for c in reader.connections if c.topic in ("/tf", "/tf_static")]
-        assert {c.topic for c in conns} == {"/tf", "/tf_static"}
-        assert all(c.msgtype == "tf2_msgs/msg/TFMessage" for c in conns)
-        for conn, stamp, raw in reader.messages(connections=conns):
-            msg: Any = ts.deserialize_cdr(raw, conn.msgtype)
-            for t in msg.transforms:
-                q, v = t.transform.rotation, t.transform.translation
-                planar = Transform2D(v.x, v.y, quaternion_to_yaw(q.x, q.y, q.z, q.w))
-                if conn.topic == "/tf":
-                    stamps.setdefault(t.child_frame_id, []).append(stamp)
-                    if len(stamps[t.child_frame_id]) > 1:
-                        continue
-                    assert t.header.stamp.sec * 10**9 + t.header.stamp.nanosec == stamp
-                tree.link(t.header.frame_id, t.child_frame_id, planar)
-    return tree, stamps
-
-
-def test_a_recording_holds_the_tf_tree(tmp_path: Path) -> None:
+def test_a_recording_holds_thetf_tree(tmp_path: Path) -> None:
     world = World(12.0, name="open")
     scenario = Scenario(world, (2.0, 3.0, 0.5), (9.0, 9.0))
     recorder, traces = record_planners(
         world, UGV, {"ugv_0": lambda r, p, g: (0.1, 1.0)}, [scenario]
     )
     recorder.save(tmp_path / "bag", UGV)
-    tree, stamps = _tf_tree(tmp_path / "bag")
+    tree, stamps = tf_tree(tmp_path / "bag")
     assert len(stamps["ugv_0/base_link"]) == traces["ugv_0"][0].steps + 1  # every odometry
     start = tree.lookup("map", "ugv_0/base_link")
     assert start.as_tuple() == pytest.approx(scenario.start)
@@ -108,7 +81,7 @@ def test_odom_apart_from_map_and_a_lidar_frame(tmp_path: Path) -> None:
     pose_odom = (2.0, 1.0, -0.4)
     recorder.odometry("r", 0, pose_odom, (0.0, 0.0))
     recorder.save(tmp_path / "bag", UGV)
-    tree, _ = _tf_tree(tmp_path / "bag")
+    tree, _ = tf_tree(tmp_path / "bag")
     assert tree.lookup("map", "odom") == offset
     got = tree.lookup("map", "r/lidar")
     want = offset.compose(Transform2D(*pose_odom)).compose(LIDAR)

@@ -5,6 +5,12 @@ A goal may come in any frame the receiver can link to ``map`` (the simulator's t
 :func:`session_frames`: ``map``, ``odom``, a robot's ``<ns>/base_link``; an empty frame is
 ``map``). One outside the known area (the arena ``[0, size]^2``, or the bounds of a map) is
 refused (the robot could never reach it, and would only time out).
+
+In the simulator (:meth:`mentor_core.runtime.sim_session.SimSession.give_goal`) a driving robot
+takes a goal at once, with a new time budget from where it stands, and is judged against it;
+a robot waiting for a goal (``wait_for_goals``) starts with it at the next step boundary (its
+``started`` event then carries it); one given between episodes waits for the next
+(``wait_for_goals`` only); the goal a robot already has changes nothing.
 """
 
 from __future__ import annotations

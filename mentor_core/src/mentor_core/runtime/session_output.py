@@ -86,11 +86,13 @@ class SessionOutput:
             self.recorder.scan(robot, time_ns, wired)
             self.recorder.odometry(robot, time_ns, odom, twist)
 
-    def odometry(self, robot: str, pose: Pose, twist: BodyTwist, time_ns: int) -> None:
-        """Odometry alone of a robot's pose in ``map``."""
+    def odometry(
+        self, robot: str, pose: Pose, twist: BodyTwist, time_ns: int, record: bool = True
+    ) -> None:
+        """Odometry alone of a robot's pose in ``map`` (``record``: into the recording too)."""
         odom = self.wiring.odom_pose(pose)
         self.port.odometry(robot, odom, twist, time_ns)
-        if self.recorder is not None:
+        if record and self.recorder is not None:
             self.recorder.odometry(robot, time_ns, odom, twist)
 
 

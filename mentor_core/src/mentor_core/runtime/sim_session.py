@@ -10,27 +10,17 @@ every robot's :class:`Outcome`, and records. Its output goes, in order, to a
 :class:`SessionPort` (:mod:`mentor_core.runtime.session_output`): poses in ``odom``, goals in
 ``map``.
 
-Driving: the node calls :meth:`SimSession.tick` from one wall timer (lockstep: every
-``resend_period`` s; real time: every ``dt / real_time_factor``; continuous: every
-``physics_step / real_time_factor``), hands commands to :meth:`SimSession.command` (after
-:meth:`SimSession.accepts`) and calls :meth:`SimSession.step` when a tick says ``timeout`` or
-``step``.
-
-* Lockstep (``real_time_factor`` 0): a pending episode starts at a tick, its first
-  observation goes out at the next (planners have the goals and ``started`` events first);
-  the step (one control period ``dt``) follows once every driving robot has answered, or at a
-  ``timeout`` tick (``answer_timeout`` > 0, the silent ones hold still); a ``resend`` tick
-  asks for the unanswered observation again.
-* Real time (``real_time_factor`` > 0): each ``step`` tick steps one control period with every
-  robot's latest command (none: it holds still).
-* Continuous (:class:`ContinuousConfig`): each ``step`` tick is one physics step with every
-  robot's held velocity; scan and odometry every ``scan_period``, odometry alone every
-  ``odom_period``.
-
-Goals (:meth:`SimSession.give_goal`): one outside the arena is refused with a warning; a
-driving robot takes it at once, with a new time budget from where it stands; one waiting for a
-goal (``wait_for_goals``) starts with it at the next step boundary; one given between episodes
-waits for the next (``wait_for_goals`` only).
+Driving: the node calls :meth:`SimSession.tick` from one wall timer, hands commands to
+:meth:`SimSession.command` (after :meth:`SimSession.accepts`) and calls
+:meth:`SimSession.step` when a tick says ``timeout`` or ``step``. Lockstep
+(``real_time_factor`` 0): an episode starts at a tick, its first observation goes out at the
+next (planners have the goals and ``started`` events first), the step (one control period)
+follows once every driving robot has answered, or at a ``timeout`` tick; a ``resend`` tick asks
+for the unanswered observation again. Real time (``real_time_factor`` > 0): each ``step`` tick
+steps one control period with every robot's latest command. Continuous
+(:class:`ContinuousConfig`): each ``step`` tick is one physics step with every robot's held
+velocity; scans and odometry at their own periods. Goals (:meth:`SimSession.give_goal`): see
+:mod:`mentor_core.runtime.goal_intake` and ``docs/ros.md``.
 """
 
 from __future__ import annotations
@@ -62,9 +52,8 @@ from mentor_core.runtime.simulator import Event, EventKind, ReferenceSimulator, 
 from mentor_core.sim.transforms import FrameTree
 from mentor_core.sim.world import World
 
-# the session's types live in session_config; importable from here as before
 __all__ = ["BodyTwist", "ContinuousConfig", "Outcome", "SessionConfig", "SessionPort",
-           "SimSession", "Tick"]  # fmt: skip
+           "SimSession", "Tick"]  # fmt: skip  (the types live in session_config)
 
 _NS_PER_S = 1_000_000_000
 
@@ -470,9 +459,9 @@ class SimSession:
                 name, self._sim.observe(name), self._sim.pose(name), self._twist[name],
                 self._time_ns, scan,
             )  # fmt: skip
-        if not waiting_too:
+        if not waiting_too:  # shown, not recorded: its episode starts at the same stamp
             for name in self._sim.waiting:
-                self._out.odometry(name, self._sim.pose(name), HOLD, self._time_ns)
+                self._out.odometry(name, self._sim.pose(name), HOLD, self._time_ns, False)
         self._barrier.ask(self._sim.active, self._clock())
 
     def _final_odometry(self, names: Sequence[str]) -> None:
