@@ -15,6 +15,7 @@ compares the reference with the trainer's episodes for untrained networks.)
 
 from __future__ import annotations
 
+import math
 import os
 import subprocess
 from pathlib import Path
@@ -237,3 +238,25 @@ def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
     assert lidar.as_tuple() == pytest.approx(want.as_tuple(), abs=1e-12)
     (robot,) = read_episode_bag(bag).robots
     assert stamps["robot_0/base_link"] == [o.stamp_ns for o in robot.odometry]  # each one
+
+
+def test_a_continuous_simulator_and_a_planner_on_its_own_timer(graph: Graph) -> None:
+    """The simulator runs like Gazebo (physics every 0.05 s, scans at 10 Hz, each cmd_vel held
+    until replaced); the planner decides once per control period of sim time with the latest
+    scan and odometry. Its decisions drive the robot to an end of the episode."""
+    robot = "swarm"
+    sim = graph.add(SimNode(context=graph.context, parameter_overrides=params(
+        robots=["robot_0"], profiles=[robot], episodes=1, continuous=True,
+        real_time_factor=10.0, time_limit=8.0,
+    )))
+    planner = graph.add(PlannerNode(
+        context=graph.context, namespace="/robot_0",
+        parameter_overrides=params(genome=str(_genome(robot)), profile=robot,
+                                   use_sim_time=True, decide_on_timer=True),
+    ))
+    assert graph.spin_until(lambda: sim.finished, timeout=20.0)
+    (outcome,) = sim.outcomes
+    start = training_scenarios(get_profile(robot), 0, n=1)[0].start
+    assert math.dist(outcome.pose[:2], start[:2]) > 0.05  # it drove
+    assert 3 <= planner.decisions <= 9  # about one per second of sim time, not one per scan
+    assert outcome.steps == round(outcome.time_used / 0.05)  # physics steps

@@ -33,6 +33,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.time import Time
 from rclpy.qos import (
     DurabilityPolicy,
     HistoryPolicy,
@@ -163,7 +164,7 @@ class PlannerNode(Node):
 
         def lookup(target: str, source: str) -> tuple[Transform2D, bool]:
             try:
-                found = self._tf_buffer.lookup_transform(target, source, rclpy.time.Time())
+                found = self._tf_buffer.lookup_transform(target, source, Time())  # latest
             except TransformException as err:
                 raise LookupError(str(err)) from None
             return conversions.planar(found)

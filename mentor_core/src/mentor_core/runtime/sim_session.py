@@ -485,6 +485,8 @@ class SimSession:
                 )
             )
             self._port.info(
-                f"{name}: {kind} after {state.steps} decisions ({state.time_used:.2f} s), "
+                f"{name}: {kind} after {state.steps} "
+                f"{'physics steps' if self.continuous else 'decisions'} "
+                f"({state.time_used:.2f} s), "
                 f"scenario {scenario}"
             )
