@@ -51,6 +51,7 @@ def test_with_tf_every_transform_comes_from_the_lookup() -> None:
     assert asked[-1] == ("base_footprint", "laser")
     odom, in_map = frames.goal("map", (4.0, 3.0))
     assert odom == pytest.approx(OFFSET.inverse().apply_point((4.0, 3.0)))
+    assert in_map == (4.0, 3.0)
 
     def no_map(target: str, source: str) -> tuple[Transform2D, bool]:
         if "map" in (target, source):
