@@ -11,6 +11,11 @@ setup(
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
         ("share/" + package_name, ["package.xml"]),
+        ("share/" + package_name + "/launch", ["launch/mentor.launch.py"]),
+        (
+            "share/" + package_name + "/config",
+            ["config/mentor.rviz", "config/foxglove_layout.json"],
+        ),
     ],
     install_requires=["setuptools"],
     zip_safe=True,

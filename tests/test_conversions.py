@@ -118,13 +118,15 @@ def test_odometry_rejects_garbage() -> None:
         planner.pose_from_odometry(msg)
 
 
-def test_goal_round_trip_and_frame_check() -> None:
+def test_goal_round_trip_in_any_frame() -> None:
     msg = sim.pose_stamped_from_goal((10.5, 1.0 / 3.0), sim.time_from_ns(0))
     assert msg.header.frame_id == "map"
-    assert planner.goal_from_pose_stamped(msg) == (10.5, 1.0 / 3.0)
-    msg.header.frame_id = "odom"
-    with pytest.raises(ValueError, match="frame"):
-        planner.goal_from_pose_stamped(msg)
+    assert planner.goal_request(msg) == ("map", (10.5, 1.0 / 3.0))
+    msg.header.frame_id = "odom"  # refused before issue 16; now the planner transforms it
+    assert planner.goal_request(msg) == ("odom", (10.5, 1.0 / 3.0))
+    msg.pose.position.x = math.nan
+    with pytest.raises(ValueError, match="not finite"):
+        planner.goal_request(msg)
 
 
 def test_action_twist_round_trip() -> None:

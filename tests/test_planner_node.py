@@ -4,6 +4,7 @@ Twists on stale or missing data; one-line errors for a corrupt genome or an unkn
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 from typing import Any
 
@@ -12,14 +13,22 @@ import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
+from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from ros_support import REGRESSION, Graph, params, run_executable
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
+from visualization_msgs.msg import MarkerArray
 
 from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.wiring import Wiring, wire_pose
+from mentor_core.sim.lidar import LidarSpec, lidar_scan
+from mentor_core.sim.pymunk_world import PymunkWorld
 from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scan_adapter import LidarMount, readings_from_scan
+from mentor_core.sim.transforms import Transform2D
+from mentor_core.sim.world import World
 from mentor_planner_node.planner import QOS_COMMAND, QOS_LATCHED, PlannerNode
 from mentor_sim_node import conversions as sim_conv
 
@@ -87,9 +96,10 @@ def test_answers_each_observation_once_with_the_trainers_decision(graph: Graph) 
 def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
     graph: Graph, capfd: pytest.CaptureFixture[str]
 ) -> None:
-    planner = _planner(graph)
+    planner = _planner(graph, control_period=0.5)  # stale after 1.5 wall s
     robot = Robot(graph)
     t = 0
+    began = time.monotonic()
 
     def advance() -> bool:
         nonlocal t
@@ -100,7 +110,7 @@ def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
     assert graph.spin_until(advance)  # sim time passes, no data at all
     assert all(c.linear.x == 0.0 and c.angular.z == 0.0 for c in robot.commands)
     assert planner.zero_commands >= 1 and planner.decisions == 0
-    assert t > 3 * 10**9  # not before stale_timeout (3 control periods)
+    assert time.monotonic() - began > 1.5  # not before stale_timeout (3 control periods)
     # data arrives: real decisions; then it stops coming: zero Twists again
     robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
     assert graph.spin_until(lambda: robot.observe(t, [0.3] * 3, (1.0, 1.0, 0.0))
@@ -115,14 +125,33 @@ def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
     assert err.count("sending a zero Twist") < planner.zero_commands
 
 
+def test_the_watchdog_stops_the_robot_when_sim_time_stops(
+    graph: Graph, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Failed before: with use_sim_time and the simulator gone, the watchdog ran on the stopped
+    sim clock: no zero Twist and no warning for as long as one waited."""
+    planner = _planner(graph, control_period=0.5)
+    robot = Robot(graph)
+    robot.tick(5 * 10**9)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    assert graph.spin_until(lambda: robot.observe(5 * 10**9, [0.3] * 3, (1.0, 1.0, 0.0))
+                            or planner.decisions == 1)
+    began = time.monotonic()  # the simulator dies: no clock, no data any more
+    assert graph.spin_until(lambda: planner.zero_commands > 0, timeout=5.0)
+    assert 1.5 <= time.monotonic() - began < 3.0
+    assert graph.spin_until(lambda: robot.commands[-1] == Twist(), timeout=2.0)
+    assert "no new scan and odometry for" in capfd.readouterr().err
+
+
 def test_nan_scan_is_rejected_and_the_node_keeps_running(
     graph: Graph, capfd: pytest.CaptureFixture[str]
 ) -> None:
     planner = _planner(graph)
     robot = Robot(graph)
     robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
-    bad = LaserScan(ranges=[0.1, math.nan, 0.2])
-    bad.header.stamp = sim_conv.time_from_ns(0)
+    # the simulator's per-sensor scan with a NaN (a lidar's NaN is "no measurement", REP-117)
+    bad = sim_conv.laser_scan_from_ranges([0.1, 0.3, 0.2], SWARM, sim_conv.time_from_ns(0), "b")
+    bad.ranges[1] = math.nan
 
     def send_bad() -> bool:
         robot.scan.publish(bad)
@@ -177,3 +206,121 @@ def test_planner_executable_exits_nonzero_on_bad_input(
     assert rc == 2, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("mentor_planner: ") and fault in lines[0], err
+
+
+# -------------------------------------------------------------------- issue 16
+
+
+def _answered(graph: Graph, robot: Robot, planner: PlannerNode, k: int, ranges: Any,
+              pose: tuple[float, float, float]) -> Twist:
+    """Observe at stamp ``k`` s until the planner answers; its answer."""
+    assert graph.spin_until(lambda: robot.observe(k * 10**9, ranges, pose)
+                            or len(robot.commands) > k)
+    return robot.commands[k]
+
+
+def test_a_goal_from_a_plain_publisher_on_goal_pose_is_taken(graph: Graph) -> None:
+    """Failed before: a volatile publisher matched no subscription (incompatible QoS), and
+    nothing listened on /goal_pose."""
+    planner = _planner(graph)
+    robot = Robot(graph)
+    rviz = graph.probe("rviz").create_publisher(PoseStamped, "/goal_pose", 10)
+    assert graph.spin_until(lambda: rviz.get_subscription_count() >= 1)
+    rviz.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    got = _answered(graph, robot, planner, 0, [0.3] * 3, (1.0, 1.0, 0.0))
+    want = GenomePlanner.load(GENOME, "swarm").command([np.float32(0.3)] * 3, (1.0, 1.0, 0.0),
+                                                       (3.0, 2.5))
+    assert (got.linear.x, got.angular.z) == want
+    # and from a plain publisher on the robot's own goal topic
+    plain = graph.probe("user").create_publisher(PoseStamped, "/robot_0/goal", 10)
+    assert graph.spin_until(lambda: plain.get_subscription_count() >= 1)
+    plain.publish(sim_conv.pose_stamped_from_goal((2.0, 3.0), Time()))
+    assert graph.spin_until(lambda: planner.gate.goal == (2.0, 3.0))
+
+
+def test_a_goal_outside_the_arena_is_refused(
+    graph: Graph, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Failed before: a goal at (2, 30) outside a 12 m arena was accepted silently."""
+    planner = _planner(graph)
+    robot = Robot(graph)
+    arena = graph.probe("sim_markers").create_publisher(MarkerArray, "/mentor/obstacles",
+                                                        QOS_LATCHED)
+    arena.publish(sim_conv.markers_from_world(World(12.0)))
+    assert graph.spin_until(lambda: planner.arena is not None)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((2.0, 30.0), Time()))
+    assert graph.spin_until(lambda: "outside the known area" in capfd.readouterr().err)
+    graph.spin_for(0.2)
+    robot.observe(0, [0.3] * 3, (1.0, 1.0, 0.0))
+    graph.spin_for(0.3)
+    assert planner.gate.goal is None and not robot.commands
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    _answered(graph, robot, planner, 0, [0.3] * 3, (1.0, 1.0, 0.0))
+
+
+def test_any_lidar_scan_is_read_from_its_mount(graph: Graph) -> None:
+    """Failed before: a scan of another ray count than the profile's sensors was refused."""
+    mount = Transform2D(0.02, -0.01, 0.3)
+    _planner(graph, lidar_mount=list(mount.as_tuple()))
+    robot = Robot(graph)
+    world = World(4.0, np.array([[1.5, 0.8, 1.7, 1.6]]))
+    pose = (1.0, 1.0, 0.2)
+    physics = PymunkWorld(world, SWARM)
+    physics.add_robot("r", pose)
+    spec = LidarSpec(360, range_max=3.0, mount=mount)
+    scan = sim_conv.lidar_scan(lidar_scan(physics, "r", spec), spec, Time(), "robot_0/lidar")
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+
+    def observe() -> bool:
+        robot.scan.publish(scan)
+        robot.odom.publish(sim_conv.odometry_from_pose(pose, (0.0, 0.0), Time(), "robot_0"))
+        return bool(robot.commands)
+
+    assert graph.spin_until(observe)
+    data = Wiring(lidar=spec).scan_data(lidar_scan(physics, "r", spec))  # float32 fields
+    readings = readings_from_scan(data, LidarMount(mount), SWARM).readings
+    assert np.isfinite(readings[1])  # the box ahead is seen
+    want = GenomePlanner.load(GENOME, "swarm").command(readings, wire_pose(pose), (3.0, 2.5))
+    assert (robot.commands[0].linear.x, robot.commands[0].angular.z) == want
+
+
+def test_goals_in_any_linked_frame_are_turned_into_the_odometry_frame(graph: Graph) -> None:
+    """Failed before: odometry was taken to be in map, a goal in another frame refused."""
+    offset = Transform2D(0.5, -0.25, 0.4)
+    planner = _planner(graph, map_to_odom=list(offset.as_tuple()))
+    robot = Robot(graph)
+    reference = GenomePlanner.load(GENOME, "swarm")
+    pose = (1.0, 1.0, 0.0)  # in odom
+    goal_map = (3.0, 2.5)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal(goal_map, Time()))
+    got = _answered(graph, robot, planner, 0, [0.3] * 3, pose)
+    goal_odom = offset.inverse().apply_point(goal_map)
+    assert (got.linear.x, got.angular.z) == reference.command([np.float32(0.3)] * 3, pose,
+                                                              goal_odom)
+    # a goal 0.4 m ahead of the robot, in its body frame
+    ahead = sim_conv.pose_stamped_from_goal((0.4, 0.0), Time())
+    ahead.header.frame_id = "robot_0/base_link"
+    robot.goal.publish(ahead)
+    assert graph.spin_until(lambda: planner.gate.goal is not None
+                            and planner.gate.goal[0] == pytest.approx(1.4))
+    unknown = sim_conv.pose_stamped_from_goal((1.0, 1.0), Time())
+    unknown.header.frame_id = "world"
+    robot.goal.publish(unknown)
+    graph.spin_for(0.2)
+    assert planner.gate.goal == pytest.approx((1.4, 1.0))  # refused: kept the last one
+
+
+def test_the_goal_radius_changes_at_run_time_and_a_reached_goal_stops_the_robot(
+    graph: Graph,
+) -> None:
+    planner = _planner(graph)
+    robot = Robot(graph)
+    assert planner.goal_radius == SWARM.goal_radius
+    result = planner.set_parameters([Parameter("goal_radius", value=1.0)])
+    assert result[0].successful and planner.goal_radius == 1.0
+    assert not planner.set_parameters([Parameter("goal_radius", value=-1.0)])[0].successful
+    assert not planner.set_parameters([Parameter("profile", value="ugv")])[0].successful
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((1.5, 1.5), Time()))
+    assert graph.spin_until(lambda: planner.gate.goal is not None)
+    got = _answered(graph, robot, planner, 0, [0.3] * 3, (1.0, 1.0, 0.0))  # 0.71 m away
+    assert got == Twist() and planner.goals_reached == 1 and planner.gate.goal is None

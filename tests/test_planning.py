@@ -179,3 +179,26 @@ def test_between_episodes_nothing_is_answered_and_the_new_goal_comes_with_starte
     # a goal topic message with the same goal later changes nothing
     gate.on_goal((4.0, 0.5))
     assert gate.take(2 * S) is None
+
+
+def test_a_new_goal_is_a_new_question_and_the_same_goal_is_not() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
+    gate.on_scan(0, [0.1, 0.2, 0.3])
+    gate.on_odometry(0, (1.0, 1.0, 0.0))
+    assert gate.on_goal((2.0, 2.0)) and gate.take(0) is not None
+    assert not gate.on_goal((2.0, 2.0 + 1e-12))  # the same goal through another frame
+    assert gate.take(0) is None
+    assert gate.on_goal((3.0, 1.0))  # another goal: the same observation is answered again
+    obs = gate.take(0)
+    assert obs is not None and obs.goal == (3.0, 1.0) and gate.take(0) is None
+
+
+def test_the_goal_is_done_when_reached_or_the_episode_ends() -> None:
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
+    gate.on_goal((2.0, 2.0))
+    assert not gate.arrived((1.0, 1.0, 0.0), 1.0)
+    assert gate.arrived((1.5, 1.5, 0.0), 1.0) and gate.goal is None
+    assert not gate.arrived((2.0, 2.0, 0.0), 1.0)  # no goal any more
+    gate.on_goal((2.0, 2.0))
+    gate.on_event("collided", 0)
+    assert gate.goal is None  # an end event ends the goal too

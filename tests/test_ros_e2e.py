@@ -15,21 +15,28 @@ compares the reference with the trainer's episodes for untrained networks.)
 
 from __future__ import annotations
 
+import math
 import os
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
+from geometry_msgs.msg import PoseStamped
 from ros_support import REGRESSION, ROOT, Graph, params, workspace_env
+from tf_support import tf_tree
 
 from mentor_core.files.bags import read_episode_bag
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.recording import recorded_episodes
 from mentor_core.runtime.simulator import RobotSetup, run_reference_episode
+from mentor_core.runtime.wiring import Wiring
+from mentor_core.sim.lidar import LidarSpec
 from mentor_core.sim.observation import twist_from_action
 from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scan_adapter import LidarMount
 from mentor_core.sim.scenarios import training_scenarios
+from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import save_world
 from mentor_planner_node.planner import PlannerNode
 from mentor_sim_node.sim import SimNode
@@ -149,3 +156,107 @@ def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(tmp_path: P
     assert len(lines) == 2 and lines[0].startswith("episode 0: ugv_0 ")
     assert lines[1].startswith("episode 0: swarm_0 ")
     assert env["ROS_DOMAIN_ID"] == os.environ["ROS_DOMAIN_ID"]
+
+
+# -------------------------------------------------------------------- issue 16: any robot
+
+
+LIDAR_MOUNT = Transform2D(0.05, 0.02, 0.3)  # off the body centre, turned
+MAP_TO_ODOM = Transform2D(1.0, -0.5, 0.3)
+USER_GOAL = (10.0, 7.5)
+
+
+def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
+    graph: Graph, tmp_path: Path
+) -> None:
+    """The simulator publishes a 360-ray lidar scan from a frame off the body centre, with
+    ``odom`` apart from ``map``; the planner reads that scan (not the per-sensor one); a plain
+    (volatile) publisher gives the goal on /goal_pose; the robot reaches it, and the episode
+    equals the in-process one (the planner's derivation of its readings from the same float32
+    scan, pose and goal in ``odom``) within 1e-9 m, in fact bit for bit up to the rounding of
+    turning the recorded odometry back into ``map``. The recording's TF tree, read with
+    rosbags' reader, links map, odom, the robot and its sensor and lidar frames."""
+    ugv = get_profile("ugv")
+    scenario = training_scenarios(ugv, 0, n=9)[8]
+    world = scenario.world
+    save_world(tmp_path / "world.yaml", world, [scenario])
+    bag = tmp_path / "episodes"
+    mount, offset = list(LIDAR_MOUNT.as_tuple()), list(MAP_TO_ODOM.as_tuple())
+    sim = graph.add(SimNode(context=graph.context, parameter_overrides=params(
+        robots=["robot_0"], profiles=["ugv"], world=str(tmp_path / "world.yaml"), episodes=1,
+        wait_for_goals=True, lidar_rays=360, lidar_mount=mount, map_to_odom=offset,
+        record=str(bag),
+    )))
+    planner = graph.add(PlannerNode(
+        context=graph.context, namespace="/robot_0",
+        parameter_overrides=params(genome=str(_genome("ugv")), profile="ugv", use_sim_time=True,
+                                   lidar_mount=mount, map_to_odom=offset),
+        cli_args=["--ros-args", "-r", "scan:=lidar/scan"],
+    ))
+    user = graph.probe("rviz").create_publisher(PoseStamped, "/goal_pose", 10)
+    assert graph.spin_until(lambda: user.get_subscription_count() >= 2)  # sim and planner
+    assert graph.spin_until(lambda: sim.session.episode == 0)  # the robot waits at its start
+    graph.spin_for(0.3)
+    assert sim.sim_time_ns == 0 and not sim.outcomes
+    goal = PoseStamped()
+    goal.header.frame_id = "map"
+    goal.pose.position.x, goal.pose.position.y = USER_GOAL
+    user.publish(goal)
+    assert graph.spin_until(lambda: sim.finished, timeout=40.0)
+    (outcome,) = sim.outcomes
+    assert outcome.event == "reached"
+    # the episode in-process: what the planner derives from the same lidar scans, in odom
+    reference = GenomePlanner.load(_genome("ugv"), "ugv")
+    spec = LidarSpec(360, range_max=ugv.sensor_range, mount=LIDAR_MOUNT)
+    wiring = Wiring(lidar=spec, planner_mount=LidarMount(LIDAR_MOUNT), map_to_odom=MAP_TO_ODOM)
+    setup = RobotSetup("robot_0", ugv, scenario.start, USER_GOAL, 0)
+    ref = run_reference_episode(world, [setup], {"robot_0": reference.decide},
+                                wiring=wiring)["robot_0"]
+    (run,) = recorded_episodes(read_episode_bag(bag), bag)
+    assert run.setup.goal == USER_GOAL and run.setup.start == scenario.start
+    assert (run.outcome, len(run.commands)) == (ref.outcome, ref.steps)
+    assert (outcome.steps, outcome.time_used) == (ref.steps, ref.time_used)
+    poses = np.array([o.pose for o in run.odometry])
+    assert np.abs(poses[:, :2] - ref.poses[:, :2]).max() <= 1e-9
+    assert _heading_error(poses[:, 2], ref.poses[:, 2]) <= 1e-9
+    wz, vx = twist_from_action(ref.decisions[:, 0], ref.decisions[:, 1], 1.0)
+    np.testing.assert_array_equal([c.linear_x for c in run.commands], vx)  # the very same
+    np.testing.assert_array_equal([c.angular_z for c in run.commands], wz)
+    assert planner.decisions == ref.steps and planner.zero_commands == 0
+    # the per-sensor readings would have been others: the lidar path was the one taken
+    plain = run_reference_episode(world, [setup], {"robot_0": reference.decide},
+                                  wiring=Wiring(map_to_odom=MAP_TO_ODOM))["robot_0"]
+    assert not np.array_equal(plain.ranges[0], ref.ranges[0])
+    # one TF tree in the bag
+    tree, stamps = tf_tree(bag)
+    assert tree.lookup("map", "odom") == MAP_TO_ODOM
+    start = tree.lookup("map", "robot_0/base_link").as_tuple()
+    assert start == pytest.approx(scenario.start, abs=1e-12)
+    lidar = tree.lookup("robot_0/sensor_0", "robot_0/lidar")
+    sensor = ugv.sensors[0]
+    want = Transform2D(sensor.x, sensor.y, sensor.angle).inverse().compose(LIDAR_MOUNT)
+    assert lidar.as_tuple() == pytest.approx(want.as_tuple(), abs=1e-12)
+    (robot,) = read_episode_bag(bag).robots
+    assert stamps["robot_0/base_link"] == [o.stamp_ns for o in robot.odometry]  # each one
+
+
+def test_a_continuous_simulator_and_a_planner_on_its_own_timer(graph: Graph) -> None:
+    """The simulator runs like Gazebo (physics every 0.05 s, scans at 10 Hz, each cmd_vel held
+    until replaced); the planner decides once per control period of sim time with the latest
+    scan and odometry. Its decisions drive the robot to an end of the episode."""
+    robot = "swarm"
+    sim = graph.add(SimNode(context=graph.context, parameter_overrides=params(
+        robots=["robot_0"], profiles=[robot], episodes=1, continuous=True,
+        real_time_factor=10.0, time_limit=8.0,
+    )))
+    planner = graph.add(PlannerNode(
+        context=graph.context, namespace="/robot_0",
+        parameter_overrides=params(genome=str(_genome(robot)), profile=robot,
+                                   use_sim_time=True, decide_on_timer=True),
+    ))
+    assert graph.spin_until(lambda: sim.finished, timeout=20.0)
+    (outcome,) = sim.outcomes
+    start = training_scenarios(get_profile(robot), 0, n=1)[0].start
+    assert math.dist(outcome.pose[:2], start[:2]) > 0.05  # it drove
+    assert 3 <= planner.decisions <= 9  # about one per second of sim time, not one per scan
+    assert outcome.steps == round(outcome.time_used / 0.05)  # physics steps

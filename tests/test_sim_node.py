@@ -10,8 +10,10 @@ from typing import Any
 
 import numpy as np
 import pytest
+from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy, qos_profile_sensor_data
 from ros_support import Graph, params, run_executable
 from rosbags.rosbag2 import StoragePlugin, Writer
@@ -27,8 +29,11 @@ from mentor_core.files.bags import read_episode_bag, write_episode_bag, write_sc
 from mentor_core.runtime.recording import recorded_episodes
 from mentor_core.sim.kinematics import unicycle_arc
 from mentor_core.sim.pymunk_world import PymunkWorld
+from mentor_core.sim.robot_description import urdf_joints
 from mentor_core.sim.robots import get_profile
+from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import Scenario, World, save_world
+from mentor_sim_node import conversions as sim_conv
 from mentor_sim_node.sim import QOS_COMMAND, QOS_LATCHED, SimNode, SimSetupError
 
 pytestmark = pytest.mark.ros
@@ -363,3 +368,96 @@ def test_sim_executable_exits_nonzero_with_one_line(tmp_path: Path, case: str) -
     assert rc == 2, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("mentor_sim: ") and fault in lines[0], err
+
+
+# -------------------------------------------------------------------- issue 16
+
+
+def test_a_plain_publishers_goal_is_the_one_the_robot_is_judged_against(
+    graph: Graph, world_file: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Failed before: the simulator heard no goals; it judged "reached" against its scenario's
+    goal only, so a robot standing at the user's goal timed out."""
+    listener = Listener(graph)
+    Answerer(graph, "robot_0", 0.0)  # a planner that holds still
+    _sim(graph, world=str(world_file), auto_advance=False, time_limit=20.0)
+    user = graph.probe("user").create_publisher(PoseStamped, "/goal_pose", 10)
+    assert graph.spin_until(lambda: bool(listener.events) and user.get_subscription_count() > 0)
+    user.publish(sim_conv.pose_stamped_from_goal((2.0, 30.0), Time()))  # outside the arena
+    assert graph.spin_until(lambda: "lies outside the known area" in capfd.readouterr().err)
+    near = sim_conv.pose_stamped_from_goal((1.6, 0.6), Time())  # 0.14 m from the robot
+    user.publish(near)
+    assert graph.spin_until(lambda: ("reached", 0) in listener.kinds(), timeout=5.0)
+    assert listener.kinds() == [("started", 0), ("reached", 0)]
+
+
+def test_lidar_scan_frames_and_robot_description(graph: Graph, world_file: Path) -> None:
+    listener = Listener(graph)
+    lidars: list[LaserScan] = []
+    urdf: list[String] = []
+    listener.node.create_subscription(LaserScan, "/robot_0/lidar/scan", lidars.append,
+                                      qos_profile_sensor_data)
+    listener.node.create_subscription(String, "/robot_0/robot_description", urdf.append,
+                                      QOS_LATCHED)
+    offset = Transform2D(1.0, -0.5, 0.3)
+    _sim(graph, world=str(world_file), auto_advance=False, lidar_rays=90,
+         lidar_mount=[0.02, 0.0, 0.1], map_to_odom=list(offset.as_tuple()), lidar_noise=0.001)
+    assert graph.spin_until(lambda: bool(lidars and listener.scans and listener.odoms and urdf))
+    scan = lidars[0]
+    assert scan.header.frame_id == "robot_0/lidar" and len(scan.ranges) == 90
+    assert scan.header.stamp == listener.scans[0].header.stamp == listener.odoms[0].header.stamp
+    assert scan.angle_increment == pytest.approx(2 * math.pi / 90)
+    assert scan.range_max == pytest.approx(SWARM.sensor_range)
+    odom = listener.odoms[0]
+    want = offset.inverse().apply_pose(SCENARIOS[0].start)
+    assert (odom.pose.pose.position.x, odom.pose.pose.position.y) == pytest.approx(want[:2])
+    assert odom.header.frame_id == "odom"
+    joints = urdf_joints(urdf[0].data)
+    assert joints["robot_0/lidar"] == ("robot_0/base_link", Transform2D(0.02, 0.0, 0.1))
+    assert set(joints) == {"robot_0/lidar", *(f"robot_0/sensor_{i}" for i in range(3))}
+
+
+def test_continuous_mode_drives_a_teleop_command_until_it_times_out(
+    graph: Graph, world_file: Path
+) -> None:
+    listener = Listener(graph)
+    sim = _sim(graph, world=str(world_file), auto_advance=False, continuous=True,
+               real_time_factor=4.0, physics_step=0.05, scan_rate=10.0, odom_rate=20.0,
+               command_timeout=0.3, time_limit=30.0)
+    assert graph.spin_until(lambda: bool(listener.odoms))
+    teleop = Twist()
+    teleop.linear.x = 0.05  # 5 cm/s ahead, once
+    assert graph.spin_until(lambda: listener.cmd.get_subscription_count() > 0)
+    listener.cmd.publish(teleop)
+    assert graph.spin_until(lambda: sim.sim_time_ns > 2 * S)
+    odoms = sorted(listener.odoms, key=lambda o: _ns(o.header.stamp))
+    stamps = np.array([_ns(o.header.stamp) for o in odoms])
+    assert set(np.diff(stamps)) == {S // 20}  # odometry every 0.05 s of sim time
+    scans = {_ns(s.header.stamp) for s in listener.scans}
+    assert all(t % (S // 10) == 0 for t in scans) and len(scans) >= 15  # scans at 10 Hz
+    xs = np.array([o.pose.pose.position.x for o in odoms])
+    moved = np.flatnonzero(np.diff(xs) > 0)
+    assert 0.0 < xs[-1] - xs[0] <= 0.05 * 0.35 + 1e-9  # held for the 0.3 s timeout, no more
+    assert len(moved) in (6, 7) and (np.diff(moved) == 1).all()  # one run of steps, then still
+
+
+def test_parameters_that_change_at_run_time(graph: Graph, world_file: Path) -> None:
+    sim = _sim(graph, world=str(world_file), real_time_factor=50.0, auto_advance=False)
+    assert sim.set_parameters([Parameter("real_time_factor", value=20.0)])[0].successful
+    assert not sim.set_parameters([Parameter("real_time_factor", value=0.0)])[0].successful
+    assert sim.set_parameters([Parameter("goal_radius", value=0.5)])[0].successful
+    assert sim.session.goal_radius == 0.5
+    assert not sim.set_parameters([Parameter("world", value="x.yaml")])[0].successful
+    descriptors = sim.describe_parameters(["real_time_factor", "goal_radius", "seed"])
+    assert [d.read_only for d in descriptors] == [False, False, True]
+
+
+def test_an_unparsable_parameter_value_is_one_line_and_exit_2() -> None:
+    """Failed before: a traceback and exit status 1."""
+    rc, err = run_executable(
+        "mentor_sim_node", "sim", ["--ros-args", "-p", 'record_metadata:={"who": "review"}']
+    )
+    assert rc == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mentor_sim: bad ROS arguments: "), err
+    assert "record_metadata" in lines[0]

@@ -15,9 +15,18 @@ from mentor_core.files.bags import read_episode_bag
 from mentor_core.runtime.lockstep import HOLD
 from mentor_core.runtime.recording import recorded_episodes
 from mentor_core.runtime.scenario_plan import ScenarioSource
-from mentor_core.runtime.sim_session import Outcome, SessionConfig, SimSession, Tick
+from mentor_core.runtime.sim_session import (
+    ContinuousConfig,
+    Outcome,
+    SessionConfig,
+    SimSession,
+    Tick,
+)
 from mentor_core.runtime.simulator import ReferenceSimulator, wire_ranges
+from mentor_core.runtime.wiring import Wiring
+from mentor_core.sim.lidar import LidarSpec
 from mentor_core.sim.robots import get_profile
+from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import Scenario, World
 
 SWARM = get_profile("swarm")
@@ -55,6 +64,12 @@ class Port:
 
     def odometry(self, robot: str, pose: Any, twist: Any, time_ns: int) -> None:
         self.calls.append(("odometry", robot, time_ns, tuple(pose), tuple(twist)))
+
+    def lidar(self, robot: str, ranges: Any, time_ns: int) -> None:
+        self.calls.append(("lidar", robot, time_ns, len(ranges)))
+
+    def warning(self, text: str) -> None:
+        self.calls.append(("warning", text))
 
     def info(self, text: str) -> None:
         self.calls.append(("info", text))
@@ -246,3 +261,123 @@ def test_robots_must_share_a_control_period() -> None:
     config = SessionConfig(robots=(("a", SWARM), ("b", slow)))
     with pytest.raises(ValueError, match="different periods"):
         SimSession(SOURCE, config, Port(), Wall())
+
+
+# -------------------------------------------------------------------- issue 16: goals, frames,
+# lidar, continuous mode
+
+
+def test_a_users_goal_is_the_one_the_robot_is_judged_against() -> None:
+    """Failed before: the simulator judged "reached" against its own scenario goal."""
+    port = Port()
+    s = _session(port, auto_advance=False)
+    s.tick()
+    s.tick()
+    port.take()
+    user = (1.7, 1.0)  # behind the robot's start (1.5, 0.5), far from the scenario's goal
+    assert s.give_goal(["robot_0"], "map", user) == user
+    calls = port.take()
+    assert ("goal", "robot_0", user, 0) in calls
+    assert ("info", "robot_0: new goal (1.700, 1.000)") in calls
+    s.command("robot_0", (math.pi / 2, 0.08))  # a quarter turn left, 8 cm: nearer the goal
+    for _ in range(20):
+        if s.outcomes:
+            break
+        s.command("robot_0", (0.0, 0.08))
+    (out,) = s.outcomes
+    assert out.event == "reached"
+    assert math.hypot(out.pose[0] - user[0], out.pose[1] - user[1]) <= SWARM.goal_radius
+
+
+def test_goals_outside_the_arena_or_in_unknown_frames_are_refused() -> None:
+    port = Port()
+    s = _session(port, auto_advance=False)
+    s.tick()
+    s.tick()
+    port.take()
+    assert s.give_goal(["robot_0"], "map", (2.0, 30.0)) is None
+    assert port.take() == [("warning", "goal (2.000, 30.000) in map lies outside the known "
+                                       "area [0, 4] x [0, 4] m; refused")]
+    assert s.give_goal(["robot_0"], "world", (1.0, 1.0)) is None
+    assert "no transform from frame 'world'" in port.take()[0][1]
+    # a goal relative to the robot: 0.5 m ahead of it
+    goal = s.give_goal(["robot_0"], "robot_0/base_link", (0.5, 0.0))
+    assert goal == pytest.approx((2.0, 0.5))
+
+
+def test_odometry_in_an_odom_frame_apart_from_map() -> None:
+    port = Port()
+    offset = Transform2D(1.0, -0.5, 0.3)
+    s = _session(port, wiring=Wiring(map_to_odom=offset), auto_advance=False)
+    s.tick()
+    s.tick()
+    (obs,) = port.take("observation")
+    assert obs[3] == pytest.approx(offset.inverse().apply_pose(SCENARIOS[0].start))
+    assert s.frames().lookup("map", "robot_0/base_link").as_tuple() == pytest.approx(
+        SCENARIOS[0].start
+    )
+    # a goal given in odom is the same point in map
+    goal_odom = offset.inverse().apply_point((3.0, 3.0))
+    assert s.give_goal(["robot_0"], "odom", goal_odom) == pytest.approx((3.0, 3.0))
+
+
+def test_robots_can_wait_for_a_goal_and_start_with_it(tmp_path: Path) -> None:
+    port = Port()
+    bag = tmp_path / "rec"
+    s = _session(port, wait_for_goals=True, episodes=1, record=str(bag))
+    assert s.tick() == Tick("start")
+    calls = port.take()
+    assert not [c for c in calls if c[0] in ("goal", "event")]  # no goal, no started event
+    assert s.tick() == Tick("observe")
+    assert [c[0] for c in port.take()] == ["odometry"]  # visible, owes no answer
+    assert not s.accepts("robot_0") and s.tick() == Tick("idle")
+    user = (1.5, 1.2)
+    s.give_goal(["robot_0"], "map", user)
+    assert s.tick() == Tick("observe")  # it starts at the next step boundary
+    calls = port.take()
+    assert [c[0] for c in calls[:3]] == ["goal", "event", "observation"]
+    assert calls[1][2:] == ("started", 0, 0, user)
+    s.command("robot_0", (math.pi / 2, 0.05))
+    while not s.finished:
+        s.command("robot_0", (0.0, 0.08))
+    assert s.outcomes[0].event == "reached"
+    (run,) = recorded_episodes(read_episode_bag(bag), bag)
+    assert run.setup.goal == user and run.setup.start == SCENARIOS[0].start
+    assert run.setup.time_budget == SWARM.time_budget(SCENARIOS[0].start[:2], user)
+
+
+def test_the_lidar_scan_goes_out_before_each_observation() -> None:
+    port = Port()
+    wiring = Wiring(lidar=LidarSpec(90, range_max=3.0))
+    s = _session(port, wiring=wiring, auto_advance=False)
+    s.tick()
+    port.take()
+    s.tick()
+    assert port.take() == [("lidar", "robot_0", 0, 90),
+                           ("observation", "robot_0", 0, SCENARIOS[0].start, HOLD)]
+
+
+def test_continuous_mode_holds_each_command_until_it_times_out() -> None:
+    port = Port()
+    cont = ContinuousConfig(physics_step=0.1, scan_period=0.2, odom_period=0.1,
+                            command_timeout=0.35)
+    s = _session(port, continuous=cont, real_time_factor=1.0, auto_advance=False)
+    assert not s.lockstep and s.continuous
+    assert s.tick() == Tick("start")
+    assert [c[0] for c in port.take()][-1] == "observation"
+    assert s.command("robot_0", (0.0, 0.05), received=(0.5, 0.0))  # 0.5 m/s ahead
+    xs, warnings = [], []
+    for _ in range(8):
+        assert s.tick() == Tick("step")
+        s.step()
+        calls = port.take()
+        warnings += [c for c in calls if c[0] == "warning"]
+        kinds = [c for c in calls if c[0] in ("observation", "odometry")]
+        assert len(kinds) == 1  # a scan with odometry every 0.2 s, odometry alone between
+        xs.append(kinds[0][3][0])
+    steps = np.diff([SCENARIOS[0].start[0], *xs])
+    # held for 0.35 s of sim time (the command came at t = 0): 4 steps of 5 cm, then it stops
+    np.testing.assert_allclose(steps[:4], 0.05, atol=1e-12)
+    np.testing.assert_allclose(steps[4:], 0.0, atol=0)
+    assert warnings == [("warning", "robot_0: no cmd_vel for the command timeout; stopping")]
+    assert s.time_ns == 800_000_000

@@ -1,12 +1,15 @@
 """Message <-> mentor_core conversions of the planner node (no node, no graph needed).
 
-The planner reads ``<ns>/scan`` (ranges in the robot profile's sensor order, +inf out of range,
-see ``mentor_sim_node.conversions``), ``<ns>/odom`` (pose in ``odom`` = ``map`` in the
-simulator) and ``<ns>/goal`` (``map``), and answers on ``<ns>/cmd_vel``. The network inputs
-themselves come from the one shared function ``mentor_core.network_inputs``, which
-clips +inf to the sensor range; nothing here changes a reading. With a global plan it also
-reads a ``nav_msgs/OccupancyGrid`` (the map to plan on) and ``nav_msgs/Path`` (a path to
-follow), both in ``map``, and writes the path it follows as a ``nav_msgs/Path``.
+The planner reads ``<ns>/scan`` (the simulator's per-sensor scan, ranges in the robot
+profile's sensor order, see ``mentor_sim_node.conversions``, or any 2-D lidar's LaserScan, which
+``mentor_core.readings_from_scan`` turns into the profile's readings), ``<ns>/odom`` (pose in
+its odometry frame), goals (``PoseStamped`` in any frame the planner can link to its odometry
+frame) and ``/mentor/obstacles`` (the arena), and answers on ``<ns>/cmd_vel``. The network
+inputs themselves come from the one shared function ``mentor_core.network_inputs``, which
+clips +inf to the sensor range; nothing here changes a reading.
+With a global plan it also reads a ``nav_msgs/OccupancyGrid`` (the map to plan on) and
+``nav_msgs/Path`` (a path to follow), both in ``map``, and writes the path it follows as a
+``nav_msgs/Path``.
 """
 
 from __future__ import annotations
@@ -17,29 +20,42 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist, Vector3
+from geometry_msgs.msg import (
+    Point,
+    Pose,
+    PoseStamped,
+    Quaternion,
+    TransformStamped,
+    Twist,
+    Vector3,
+)
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry, Path
 from numpy.typing import ArrayLike, NDArray
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Header, String
+from visualization_msgs.msg import MarkerArray
 
 from mentor_core import (
     EVENT_FORMAT,
     EVENT_KINDS,
     MAP_FRAME,
+    LaserScanData,
     OccupancyGrid,
+    Transform2D,
+    planar_transform,
     quaternion_to_yaw,
+    scan_geometry,
     yaw_to_quaternion,
 )
 from mentor_core import twist_from_action as _twist_from_action
 
 if TYPE_CHECKING:
-    from mentor_core import RobotProfile
+    from mentor_core import Bounds, RobotProfile
 
-#: Frames a goal may be given in: the arena frame, or none (taken as the arena frame).
-GOAL_FRAMES = (MAP_FRAME, "")
 _NS_PER_S = 1_000_000_000
+#: rad, m: how near a scan's geometry must be to the profile's to be its per-sensor scan
+_SAME_GEOMETRY = 1e-6
 
 
 def ns_from_stamp(stamp: Time) -> int:
@@ -77,17 +93,56 @@ def pose_from_odometry(msg: Odometry) -> tuple[float, float, float]:
     return float(p.x), float(p.y), quaternion_to_yaw(q.x, q.y, q.z, q.w)
 
 
-def goal_from_pose_stamped(msg: PoseStamped) -> tuple[float, float]:
-    """Goal ``(x, y)`` (m) of a PoseStamped in ``map`` (an empty frame is taken as ``map``).
-
-    ``ValueError`` for another frame or a non-finite position.
-    """
-    if msg.header.frame_id not in GOAL_FRAMES:
-        raise ValueError(f"goal frame {msg.header.frame_id!r} is not {MAP_FRAME!r}")
+def goal_request(msg: PoseStamped) -> tuple[str, tuple[float, float]]:
+    """``(frame, (x, y))`` of a goal (m; any frame, empty: the map's). ``ValueError`` for a
+    non-finite position."""
     x, y = float(msg.pose.position.x), float(msg.pose.position.y)
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ValueError("goal position is not finite")
-    return x, y
+    return str(msg.header.frame_id), (x, y)
+
+
+def is_profile_scan(msg: LaserScan, profile: RobotProfile) -> bool:
+    """The scan is the simulator's per-sensor scan of ``profile`` (one range per sensor, its
+    angles and range): any other is read as a lidar's."""
+    geo = scan_geometry(profile)
+    fields = (msg.angle_min, msg.angle_max, msg.angle_increment, msg.range_max)
+    want = (geo.angle_min, geo.angle_max, geo.angle_increment, geo.range_max)
+    return len(msg.ranges) == profile.n_sensors and all(
+        abs(a - b) <= _SAME_GEOMETRY for a, b in zip(fields, want, strict=True)
+    )
+
+
+def scan_data(msg: LaserScan) -> LaserScanData:
+    """The fields of any LaserScan the planner derives its readings from (ranges as sent,
+    float32 to float64). ``ValueError`` for non-finite angles or limits, or no ranges."""
+    if not msg.ranges:
+        raise ValueError("scan has no ranges")
+    return LaserScanData(
+        float(msg.angle_min),
+        float(msg.angle_increment),
+        float(msg.range_min),
+        float(msg.range_max),
+        np.asarray(msg.ranges, dtype=np.float64),
+    )
+
+
+def planar(msg: TransformStamped) -> tuple[Transform2D, bool]:
+    """A TF transform's planar part and whether its child frame is upside down (``ValueError``
+    for a tilted one)."""
+    t, q = msg.transform.translation, msg.transform.rotation
+    return planar_transform((t.x, t.y, t.z), (q.x, q.y, q.z, q.w))
+
+
+def arena_bounds(msg: MarkerArray) -> Bounds | None:
+    """``(xmin, ymin, xmax, ymax)`` (m) of the arena outline (ns ``arena``) of the simulator's
+    obstacle markers, or None without one."""
+    for marker in msg.markers:
+        if marker.ns == "arena" and marker.points:
+            xs = [float(p.x) for p in marker.points]
+            ys = [float(p.y) for p in marker.points]
+            return (min(xs), min(ys), max(xs), max(ys))
+    return None
 
 
 def event_from_string(msg: String) -> tuple[str, tuple[float, float] | None]:
@@ -129,8 +184,12 @@ def twist_from_action(dtheta: float, ds: float, dt: float) -> Twist:
     return Twist(linear=Vector3(x=float(linear_x)), angular=Vector3(z=float(angular_z)))
 
 
+#: frames a map or a path may come in (the simulator's arena frame; '' taken as it)
+PLAN_FRAMES = (MAP_FRAME, "")
+
+
 def _check_frame(frame_id: str, what: str) -> None:
-    if frame_id not in GOAL_FRAMES:
+    if frame_id not in PLAN_FRAMES:
         raise ValueError(f"{what} frame {frame_id!r} is not {MAP_FRAME!r}")
 
 

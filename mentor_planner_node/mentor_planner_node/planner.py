@@ -1,14 +1,23 @@
 """The MENTOR planner node: an evolved genome as a path planner for one robot.
 
-It subscribes ``scan``, ``odom``, ``goal`` (and ``events``) in its namespace and answers every
-new observation (a scan and an odometry with the same stamp) with one ``cmd_vel``: once per
-control period. The decision is :class:`mentor_core.GenomePlanner`, the trainer's own input
-and output functions; when to decide and when data is stale is
-:class:`mentor_core.DecisionGate`. A watchdog on the node's clock (sim time under
-``use_sim_time``) sends a zero Twist with a throttled warning when no observation could be
-answered for ``stale_timeout`` s. A corrupt genome or an unknown profile is one line on stderr
-and exit status 2. With ``global_plan`` the network steers along a path given on ``plan`` or
-planned on the map (:mod:`.global_plan`).
+It subscribes ``scan``, ``odom``, goals (``goal``, latched or not, and ``/goal_pose``, where
+RViz's and Foxglove's goal tools and any plain publisher reach it) and ``events`` in its
+namespace, and the arena (``/mentor/obstacles``), and publishes
+``cmd_vel``. A scan may be the simulator's per-sensor scan or any 2-D lidar's
+(:func:`mentor_core.readings_from_scan`, the lidar's mount from TF where ``tf2_ros`` is
+installed, else the ``lidar_mount`` parameter); goals may come in any frame it can link to its
+odometry frame (:class:`mentor_core.PlannerFrames`), and one outside the arena is refused.
+
+It answers every new observation (a scan and an odometry with the same stamp) with one
+``cmd_vel`` (lockstep), or decides every control period with the latest one
+(``decide_on_timer``, for a simulator or robot that runs continuously). The decision is
+:class:`mentor_core.GenomePlanner`, the trainer's own input and output functions; when to
+decide, when the goal is reached and when data is stale is :class:`mentor_core.DecisionGate`.
+A watchdog on the steady clock sends a zero Twist with a throttled warning when no observation
+could be answered for ``stale_timeout`` wall s, also when sim time stops. A corrupt genome or
+an unknown profile is one line on stderr and exit status 2.
+With ``global_plan`` the network steers along a path given on ``plan`` or planned on the
+map (:mod:`.global_plan`).
 """
 
 from __future__ import annotations
@@ -19,10 +28,13 @@ from typing import Any
 import rclpy
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rcl_interfaces.msg import SetParametersResult
+from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import NameValidationException, ParameterException
 from rclpy.executors import ExternalShutdownException
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.qos import (
     DurabilityPolicy,
     HistoryPolicy,
@@ -30,39 +42,55 @@ from rclpy.qos import (
     ReliabilityPolicy,
     qos_profile_sensor_data,
 )
+from rclpy.time import Time
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
+from visualization_msgs.msg import MarkerArray
 
-from mentor_core import DecisionGate, GenomePlanner, MentorError, get_profile
+from mentor_core import (
+    Bounds,
+    DecisionGate,
+    GenomePlanner,
+    MentorError,
+    PlannerFrames,
+    Transform2D,
+    bounds_fault,
+    parameter_fault,
+    readings_from_scan,
+)
 from mentor_planner_node import conversions, global_plan
+from mentor_planner_node.params import (
+    PlannerSetupError,
+    check_goal_radius,
+    declare_parameters,
+)
+
+try:  # a full ROS 2 install has tf2_ros; the pip-only one has no wheel
+    from tf2_ros import Buffer, TransformException, TransformListener
+except ImportError:  # pragma: no cover - depends on the installation
+    Buffer = TransformListener = None
+    TransformException = LookupError
+
+__all__ = ["NODE_NAME", "QOS_COMMAND", "QOS_GOAL", "QOS_LATCHED", "PlannerNode",
+           "PlannerSetupError", "main"]  # fmt: skip
 
 NODE_NAME = "mentor_planner"
 COMMAND_DEPTH = 10
 EVENT_DEPTH = 10
 LATCHED_DEPTH = 1
+GOAL_DEPTH = 10
 WARN_EVERY_S = 5.0
-#: periods without an answer before the watchdog fires, when ``stale_timeout`` is 0
-STALE_PERIODS = 3.0
+OBSTACLES_TOPIC = "/mentor/obstacles"
 QOS_LATCHED = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=LATCHED_DEPTH,
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
+#: goals from ordinary publishers (RViz, Foxglove, a plain rclpy publisher)
+QOS_GOAL = QoSProfile(depth=GOAL_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
 QOS_COMMAND = QoSProfile(depth=COMMAND_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
 QOS_EVENTS = QoSProfile(depth=EVENT_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
-
-
-class PlannerSetupError(MentorError):
-    """A parameter of the planner node is invalid (one line)."""
-
-
-def _descriptor(text: str, low: float | None = None) -> ParameterDescriptor:
-    extra: dict[str, Any] = {}
-    if low is not None:
-        bounds = FloatingPointRange(from_value=low, to_value=1e9, step=0.0)
-        extra["floating_point_range"] = [bounds]
-    return ParameterDescriptor(description=text, read_only=True, **extra)
 
 
 class PlannerNode(Node):
@@ -81,59 +109,42 @@ class PlannerNode(Node):
             raise
 
     def _setup(self) -> None:
-        declared = self.declare_parameters(
-            "",
-            [
-                ("genome", "", _descriptor("genome JSON file ('' : answer zero Twists)")),
-                ("profile", "ugv", _descriptor("robot profile (robots.yaml)")),
-                (
-                    "control_period",
-                    0.0,
-                    _descriptor("s per decision (0: the profile's)", low=0.0),
-                ),
-                (
-                    "stale_timeout",
-                    0.0,
-                    _descriptor(
-                        "s without an answered observation before a zero Twist "
-                        f"(0: {STALE_PERIODS:g} control periods)",
-                        low=0.0,
-                    ),
-                ),
-                (
-                    "sync_tolerance",
-                    0.05,
-                    _descriptor("s, largest stamp gap of a scan and the odometry used", low=0.0),
-                ),
-            ],
-        )
-        values = {p.name: p.value for p in declared}
-        self.profile = get_profile(str(values["profile"]))
-        period = float(values["control_period"])
-        self.control_period = period if period > 0.0 else self.profile.control_period
-        stale = float(values["stale_timeout"])
-        stale = stale if stale > 0.0 else STALE_PERIODS * self.control_period
-        if stale <= self.control_period:
-            raise PlannerSetupError(
-                f"stale_timeout: {stale} s must exceed the control period {self.control_period} s"
-            )
-        genome = str(values["genome"])
-        self.planner = GenomePlanner.load(genome, self.profile.name) if genome else None
-        self.gate = DecisionGate(stale, float(values["sync_tolerance"]))
+        p = declare_parameters(self)
+        self.params = p
+        self.profile = p.profile
+        self.control_period = p.control_period
+        self.goal_radius = p.goal_radius
+        self.planner = GenomePlanner.load(p.genome, self.profile.name) if p.genome else None
+        self.gate = DecisionGate(p.stale_timeout, p.sync_tolerance)
+        self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
+        self.arena: Bounds | None = None
         #: the global plan (parameter global_plan), None without
         self.global_plan = global_plan.attach(self, self.planner, self._answer)
         self.decisions = 0
         self.zero_commands = 0
+        self.goals_reached = 0
 
         self._cmd_pub = self.create_publisher(Twist, "cmd_vel", QOS_COMMAND)
         # events and goals first: the executor serves ready subscriptions in creation order,
         # so an episode's end and the next start are handled before its observations
         self._events_sub = self.create_subscription(String, "events", self._on_event, QOS_EVENTS)
-        self._goal_sub = self.create_subscription(PoseStamped, "goal", self._on_goal, QOS_LATCHED)
+        self._goal_subs = self._subscribe_goals("goal", latched=True)
+        if p.goal_pose_topic:
+            self._goal_subs += self._subscribe_goals(p.goal_pose_topic, latched=False)
+        self._arena_sub = self.create_subscription(
+            MarkerArray, OBSTACLES_TOPIC, self._on_arena, QOS_LATCHED
+        )
         sensor = qos_profile_sensor_data
         self._scan_sub = self.create_subscription(LaserScan, "scan", self._on_scan, sensor)
         self._odom_sub = self.create_subscription(Odometry, "odom", self._on_odom, sensor)
-        self._watchdog = self.create_timer(self.control_period, self._on_watchdog)
+        # the watchdog runs on the steady clock: it must fire when sim time stops
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._watchdog = self.create_timer(self.control_period, self._on_watchdog,
+                                           clock=self._steady)
+        self._decide_timer = (
+            self.create_timer(self.control_period, self._answer) if p.decide_on_timer else None
+        )
+        self.add_on_set_parameters_callback(self._on_parameters)
         if self.planner is None:
             self.get_logger().warning(
                 "no genome given (parameter 'genome'): every answer is a zero Twist"
@@ -141,60 +152,146 @@ class PlannerNode(Node):
         else:
             g = self.planner.genome
             self.get_logger().info(
-                f"planning for {self.profile.name!r} with {genome} "
-                f"({len(g.nodes)} nodes, {len(g.enabled_connections)} enabled connections)"
+                f"planning for {self.profile.name!r} with {p.genome} "
+                f"({len(g.nodes)} nodes, {len(g.enabled_connections)} enabled connections); "
+                + ("frames from TF" if self.frames.uses_tf else "frames from parameters")
             )
 
-    def _now_ns(self) -> int:
-        return int(self.get_clock().now().nanoseconds)
+    # ------------------------------------------------------------------ frames
+
+    def _tf(self) -> Any:
+        """The TF lookup where tf2_ros is installed (and ``use_tf``), else None."""
+        if Buffer is None or not self.params.use_tf:
+            return None
+        self._tf_buffer = Buffer()
+        self._tf_listener = TransformListener(self._tf_buffer, self)
+
+        def lookup(target: str, source: str) -> tuple[Transform2D, bool]:
+            try:
+                found = self._tf_buffer.lookup_transform(target, source, Time())  # latest
+            except TransformException as err:
+                raise LookupError(str(err)) from None
+            return conversions.planar(found)
+
+        return lookup
+
+    def _steady_ns(self) -> int:
+        return int(self._steady.now().nanoseconds)
+
+    # ------------------------------------------------------------------ inputs
+
+    def _subscribe_goals(self, topic: str, latched: bool) -> list[Any]:
+        """A volatile subscription (it matches every publisher) and, with ``latched``, a
+        latched one for the last goal a latched publisher sent before (not on the goal tools'
+        topic: it would only warn of incompatible QoS at every volatile publisher)."""
+        subs = [self.create_subscription(PoseStamped, topic, self._on_goal, QOS_GOAL)]
+        if latched:
+            subs.append(self.create_subscription(PoseStamped, topic, self._on_goal, QOS_LATCHED))
+        return subs
+
+    def _warn(self, text: str) -> None:
+        self.get_logger().warning(text, throttle_duration_sec=WARN_EVERY_S)
 
     def _on_scan(self, msg: LaserScan) -> None:
+        kind = self.params.scan_kind
+        if kind == "auto":
+            kind = "sensors" if conversions.is_profile_scan(msg, self.profile) else "lidar"
         try:
-            ranges = conversions.ranges_from_scan(msg, self.profile)
-        except ValueError as err:
-            self.get_logger().warning(
-                f"scan rejected: {err}", throttle_duration_sec=WARN_EVERY_S
-            )
+            if kind == "sensors":
+                ranges = conversions.ranges_from_scan(msg, self.profile)
+            else:
+                ranges = self._lidar_readings(msg)
+        except (ValueError, LookupError) as err:
+            self._warn(f"scan rejected: {err}")
             return
         self.gate.on_scan(conversions.ns_from_stamp(msg.header.stamp), ranges)
-        self._answer()
+        if self._decide_timer is None:
+            self._answer()
+
+    def _lidar_readings(self, msg: LaserScan) -> Any:
+        """The profile's readings off a lidar's scan (its mount from TF or the parameter)."""
+        mount = self.frames.mount(msg.header.frame_id)
+        read = readings_from_scan(
+            conversions.scan_data(msg), mount, self.profile, self.params.ray_width
+        )
+        if read.uncovered:
+            self._warn(f"sensors {list(read.uncovered)} lie outside the scan's field of view: "
+                       "they read nothing in range")
+        return read.readings
 
     def _on_odom(self, msg: Odometry) -> None:
         try:
             pose = conversions.pose_from_odometry(msg)
         except ValueError as err:
-            self.get_logger().warning(
-                f"odometry rejected: {err}", throttle_duration_sec=WARN_EVERY_S
-            )
+            self._warn(f"odometry rejected: {err}")
             return
+        self.frames.on_odometry(msg.header.frame_id, msg.child_frame_id, pose)
         self.gate.on_odometry(conversions.ns_from_stamp(msg.header.stamp), pose)
-        self._answer()
+        if self._decide_timer is None:
+            self._answer()
+
+    def _goal_in_odom(self, frame: str, xy: Any) -> tuple[float, float] | None:
+        """A goal turned into the odometry frame, or None (refused: a warning says why)."""
+        try:
+            odom, in_map = self.frames.goal(frame, xy)
+        except (LookupError, ValueError) as err:
+            self.get_logger().warning(f"goal refused: {err}")
+            return None
+        why = bounds_fault(in_map, self.arena) if in_map is not None else ""
+        if why:
+            self.get_logger().warning(why)
+            return None
+        return odom
 
     def _on_goal(self, msg: PoseStamped) -> None:
         try:
-            goal = conversions.goal_from_pose_stamped(msg)
+            frame, xy = conversions.goal_request(msg)
         except ValueError as err:
-            self.get_logger().warning(f"goal rejected: {err}")
+            self.get_logger().warning(f"goal refused: {err}")
             return
-        self.gate.on_goal(goal)
-        self._answer()
+        goal = self._goal_in_odom(frame, xy)
+        if goal is not None and self.gate.on_goal(goal):  # the same goal twice: one goal
+            self.get_logger().info(
+                f"new goal ({xy[0]:.3f}, {xy[1]:.3f}) in {frame or self.frames.map_frame!r}"
+            )
+            self._answer()
 
     def _on_event(self, msg: String) -> None:
         try:
             kind, goal = conversions.event_from_string(msg)
         except ValueError as err:
-            self.get_logger().warning(
-                f"event rejected: {err}", throttle_duration_sec=WARN_EVERY_S
-            )
+            self._warn(f"event rejected: {err}")
             return
-        self.gate.on_event(kind, self._now_ns(), goal)
+        if goal is not None:  # the simulator's goals are in map
+            goal = self._goal_in_odom(self.frames.map_frame, goal)
+        self.gate.on_event(kind, self._steady_ns(), goal)
         self._answer()
+
+    def _on_arena(self, msg: MarkerArray) -> None:
+        self.arena = conversions.arena_bounds(msg)
+
+    def _on_parameters(self, params: list[Parameter]) -> SetParametersResult:
+        """``goal_radius`` at run time (the rest is read-only: rclpy refuses it first)."""
+        for param in params:
+            radius, why = check_goal_radius(param.value, self.profile)
+            if why:
+                return SetParametersResult(successful=False, reason=why)
+            self.goal_radius = radius
+            self.get_logger().info(f"goal_radius set to {radius} m")
+        return SetParametersResult(successful=True)
+
+    # ------------------------------------------------------------------ answers
 
     def _answer(self) -> None:
         if self.global_plan is not None and not self.global_plan.ready:
             return  # nothing to follow yet: the observation waits for a map or a path
-        obs = self.gate.take(self._now_ns())
+        obs = self.gate.take(self._steady_ns())
         if obs is None or obs.goal is None:
+            return
+        if self.gate.arrived(obs.pose, self.goal_radius):
+            self.goals_reached += 1
+            self.get_logger().info("goal reached: stopping")
+            self._cmd_pub.publish(Twist())
             return
         if self.planner is None:
             self._send_zero("no genome loaded")
@@ -210,7 +307,7 @@ class PlannerNode(Node):
         self.decisions += 1
 
     def _on_watchdog(self) -> None:
-        reason = self.gate.watchdog(self._now_ns())
+        reason = self.gate.watchdog(self._steady_ns())
         if reason is not None and self.global_plan is not None and not self.global_plan.ready:
             reason = "no map or path to follow yet (global_plan)"
         if reason is not None:
@@ -219,14 +316,21 @@ class PlannerNode(Node):
     def _send_zero(self, reason: str) -> None:
         self._cmd_pub.publish(Twist())
         self.zero_commands += 1
-        self.get_logger().warning(
-            f"{reason}: sending a zero Twist", throttle_duration_sec=WARN_EVERY_S
-        )
+        self._warn(f"{reason}: sending a zero Twist")
 
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown; a bad setup is one line on stderr and exit status 2."""
-    rclpy.init(args=args)
+    fault = parameter_fault(sys.argv if args is None else args)
+    if fault:
+        print(f"mentor_planner: bad ROS arguments: {fault}", file=sys.stderr)
+        sys.exit(2)
+    try:
+        rclpy.init(args=args)
+    except rclpy_implementation.RCLError as err:  # other arguments rcl cannot parse
+        text = " ".join(str(err).split()).split(", at /")[0]
+        print(f"mentor_planner: bad ROS arguments: {text}", file=sys.stderr)
+        sys.exit(2)
     try:
         node = PlannerNode()
     except (MentorError, ValueError, ParameterException, NameValidationException) as err:

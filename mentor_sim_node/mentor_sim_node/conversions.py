@@ -1,7 +1,9 @@
 """Message <-> mentor_core conversions of the simulator node (no node, no graph needed).
 
-Frames (REP-105): ``map`` is the arena frame; the simulator's odometry is drift-free, so
-``odom`` coincides with ``map``; each robot's body frame is ``<ns>/base_link``. Units REP-103.
+Frames (REP-105): ``map`` is the arena frame; ``odom`` sits at the ``map_to_odom`` parameter
+in it (identity by default), the odometry is in ``odom``; each robot's body frame is
+``<ns>/base_link``, its sensors ``<ns>/sensor_<i>`` and its lidar ``<ns>/lidar``
+(:func:`mentor_core.robot_links`). Units REP-103.
 
 LaserScan convention: a MENTOR robot's range sensors sit at different points of the body and a
 LaserScan cannot say so. ``ranges[i]`` is sensor ``i`` of the robot profile (its order),
@@ -20,7 +22,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion, Twist, Vector3
+from geometry_msgs.msg import (
+    Point,
+    Pose,
+    PoseStamped,
+    Quaternion,
+    Transform,
+    TransformStamped,
+    Twist,
+    Vector3,
+)
 from nav_msgs.msg import MapMetaData, Odometry
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from numpy.typing import ArrayLike
@@ -43,7 +54,7 @@ from mentor_core import (
 )
 
 if TYPE_CHECKING:
-    from mentor_core import OccupancyGrid, RobotProfile, World
+    from mentor_core import FrameLink, LidarSpec, OccupancyGrid, RobotProfile, World
 
 _NS_PER_S = 1_000_000_000
 
@@ -202,3 +213,45 @@ def occupancy_grid_from_grid(grid: OccupancyGrid, stamp: Time | None = None) -> 
         origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=_quaternion(yaw)),
     )
     return OccupancyGridMsg(header=header, info=info, data=grid.data.reshape(-1).tolist())
+
+
+def lidar_scan(ranges: ArrayLike, spec: LidarSpec, stamp: Time, frame_id: str) -> LaserScan:
+    """LaserScan of a simulated lidar's ranges (m, REP-117 coded: +inf, -inf kept)."""
+    r = np.asarray(ranges, dtype=np.float64)
+    return LaserScan(
+        header=Header(stamp=stamp, frame_id=frame_id),
+        angle_min=spec.angle_min,
+        angle_max=spec.angle_max,
+        angle_increment=spec.angle_increment,
+        time_increment=0.0,
+        scan_time=0.0,
+        range_min=spec.range_min,
+        range_max=spec.range_max,
+        ranges=r.astype(np.float32).tolist(),
+    )
+
+
+def transforms(links: Sequence[FrameLink], stamp: Time) -> list[TransformStamped]:
+    """``geometry_msgs/TransformStamped`` of planar frame links (z 0), for ``/tf`` and
+    ``/tf_static``."""
+    out = []
+    for link in links:
+        t = link.transform
+        out.append(
+            TransformStamped(
+                header=Header(stamp=stamp, frame_id=link.parent),
+                child_frame_id=link.child,
+                transform=Transform(
+                    translation=Vector3(x=t.x, y=t.y, z=0.0), rotation=_quaternion(t.yaw)
+                ),
+            )
+        )
+    return out
+
+
+def goal_request(msg: PoseStamped) -> tuple[str, tuple[float, float]]:
+    """``(frame, (x, y))`` of a goal given as a PoseStamped; ValueError when not finite."""
+    x, y = float(msg.pose.position.x), float(msg.pose.position.y)
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError("goal position is not finite")
+    return str(msg.header.frame_id), (x, y)

@@ -1,9 +1,11 @@
-"""The simulator node's parameters: declared read-only (descriptions, ranges), then checked.
+"""The simulator node's parameters: declared (descriptions, ranges), then checked.
 
 :func:`declare_parameters` declares them on the node and returns them checked
 (:func:`check_parameters`, which needs no node) as :class:`SimParameters`; then it declares
 every robot's mount layout (``<ns>.profile``, ``<ns>.sensor_x``, ...), for tools that need
-the sensor geometry a LaserScan cannot carry. See ``docs/ros.md`` for the table.
+the sensor geometry a LaserScan cannot carry. All are read-only but :data:`RUNTIME`
+(``real_time_factor``, ``goal_radius``), which :func:`check_runtime` checks when they are set
+on the running node. See ``docs/ros.md`` for the table.
 """
 
 from __future__ import annotations
@@ -16,7 +18,19 @@ from typing import Any
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 
-from mentor_core import MentorError, RobotProfile, SessionConfig, get_profile
+from mentor_core import (
+    ContinuousConfig,
+    LidarSpec,
+    MentorError,
+    RobotProfile,
+    SessionConfig,
+    Transform2D,
+    Wiring,
+    get_profile,
+)
+
+#: parameters that may change while the node runs
+RUNTIME = ("real_time_factor", "goal_radius")
 
 
 class SimSetupError(MentorError):
@@ -31,12 +45,13 @@ class SimParameters:
     scenario_bag: str
     seed: int
     session: SessionConfig
+    goal_pose_topic: str
     map_yaml: str = ""
     map_resolution: float = 0.05
 
 
-def _descriptor(text: str, **extra: Any) -> ParameterDescriptor:
-    return ParameterDescriptor(description=text, read_only=True, **extra)
+def _descriptor(text: str, runtime: bool = False, **extra: Any) -> ParameterDescriptor:
+    return ParameterDescriptor(description=text, read_only=not runtime, **extra)
 
 
 def _at_least(low: float) -> list[FloatingPointRange]:
@@ -85,7 +100,9 @@ def _declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
             "real_time_factor",
             0.0,
             _descriptor(
-                "sim seconds per wall second (0: as fast as the planners answer)",
+                "sim seconds per wall second (0: as fast as the planners answer); "
+                "changes at run time between positive values",
+                runtime=True,
                 floating_point_range=_at_least(0.0),
             ),
         ),
@@ -110,6 +127,77 @@ def _declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
             "record_metadata",
             "{}",
             _descriptor("JSON object added to the recording's metadata (e.g. genomes)"),
+        ),
+        *_frame_and_goal_declarations(),
+        *_lidar_declarations(),
+        *_continuous_declarations(),
+    ]
+
+
+def _frame_and_goal_declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
+    return [
+        (
+            "map_to_odom",
+            [0.0, 0.0, 0.0],
+            _descriptor("pose [x, y, yaw] (m, m, rad) of the odom frame in map"),
+        ),
+        (
+            "goal_radius",
+            0.0,
+            _descriptor(
+                "m, a robot within it has reached its goal (0: each profile's); run time",
+                runtime=True,
+                floating_point_range=_at_least(0.0),
+            ),
+        ),
+        (
+            "wait_for_goals",
+            False,
+            _descriptor("robots wait at their starts for a goal on a goal topic"),
+        ),
+        (
+            "goal_pose_topic",
+            "/goal_pose",
+            _descriptor("goals for every robot (RViz/Foxglove goal tools; '' : none)"),
+        ),
+    ]
+
+
+def _lidar_declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
+    return [
+        (
+            "lidar_rays",
+            0,
+            _descriptor("rays of a simulated 2-D lidar on <ns>/lidar/scan (0: none)",
+                        integer_range=_count()),
+        ),
+        ("lidar_fov", 6.283185307179586, _descriptor("lidar field of view, rad (<= 2 pi)")),
+        (
+            "lidar_mount",
+            [0.0, 0.0, 0.0],
+            _descriptor("pose [x, y, yaw] (m, m, rad) of the lidar in the body frame"),
+        ),
+        ("lidar_range_min", 0.0, _descriptor("m, nearer returns read -inf (REP-117)")),
+        ("lidar_range_max", 0.0, _descriptor("m, farther read +inf (0: the sensor range)")),
+        ("lidar_noise", 0.0, _descriptor("standard deviation of the range noise, m")),
+        ("lidar_seed", 0, _descriptor("seed of the lidar noise")),
+    ]
+
+
+def _continuous_declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
+    return [
+        (
+            "continuous",
+            False,
+            _descriptor("physics at a fixed step with held cmd_vel (as Gazebo), not lockstep"),
+        ),
+        ("physics_step", 0.05, _descriptor("continuous: s of sim time per physics step")),
+        ("scan_rate", 10.0, _descriptor("continuous: scans per s of sim time")),
+        ("odom_rate", 20.0, _descriptor("continuous: odometry messages per s of sim time")),
+        (
+            "command_timeout",
+            0.5,
+            _descriptor("continuous: sim s a cmd_vel holds before the robot stops (0: ever)"),
         ),
     ]
 
@@ -171,6 +259,7 @@ def check_parameters(values: Mapping[str, Any], node_name: str) -> SimParameters
         raise SimSetupError("record_metadata: not a JSON object")
     limit = float(values["time_limit"])
     rtf = float(values["real_time_factor"])
+    radius = float(values["goal_radius"])
     session = SessionConfig(
         robots=robots,
         first_scenario=int(values["first_scenario"]),
@@ -182,15 +271,76 @@ def check_parameters(values: Mapping[str, Any], node_name: str) -> SimParameters
         resend_period=float(values["resend_period"]),
         record=record,
         record_metadata={**note, "node": node_name, "real_time_factor": rtf},
+        wiring=_wiring(values, robots),
+        wait_for_goals=bool(values["wait_for_goals"]),
+        continuous=_continuous(values),
+        goal_radius=radius if radius > 0.0 else None,
     )
     return SimParameters(
-        str(values["world"]),
-        str(values["scenario_bag"]),
-        int(values["seed"]),
-        session,
+        str(values["world"]), str(values["scenario_bag"]), int(values["seed"]), session,
+        str(values["goal_pose_topic"]),
         map_yaml=str(values.get("map_yaml", "")),
         map_resolution=float(values.get("map_resolution", 0.05)),
     )
+
+
+def _transform(values: Mapping[str, Any], key: str) -> Transform2D:
+    try:
+        return Transform2D.of([float(v) for v in values[key]])
+    except (TypeError, ValueError) as err:
+        raise SimSetupError(f"{key}: {err}") from None
+
+
+def _wiring(
+    values: Mapping[str, Any], robots: tuple[tuple[str, RobotProfile], ...]
+) -> Wiring:
+    map_to_odom = _transform(values, "map_to_odom")
+    rays = int(values["lidar_rays"])
+    if rays == 0:
+        return Wiring(map_to_odom=map_to_odom)
+    reach = float(values["lidar_range_max"]) or max(p.sensor_range for _, p in robots)
+    try:
+        spec = LidarSpec(
+            rays,
+            fov=float(values["lidar_fov"]),
+            mount=_transform(values, "lidar_mount"),
+            range_min=float(values["lidar_range_min"]),
+            range_max=reach,
+            noise=float(values["lidar_noise"]),
+        )
+    except ValueError as err:
+        raise SimSetupError(str(err)) from None
+    return Wiring(lidar=spec, seed=int(values["lidar_seed"]), map_to_odom=map_to_odom)
+
+
+def _continuous(values: Mapping[str, Any]) -> ContinuousConfig | None:
+    if not values["continuous"]:
+        return None
+    rates = {key: float(values[key]) for key in ("scan_rate", "odom_rate")}
+    for key, rate in rates.items():
+        if not rate > 0.0:
+            raise SimSetupError(f"{key}: must be positive, got {rate}")
+    try:
+        return ContinuousConfig(
+            physics_step=float(values["physics_step"]),
+            scan_period=1.0 / rates["scan_rate"],
+            odom_period=1.0 / rates["odom_rate"],
+            command_timeout=float(values["command_timeout"]),
+        )
+    except ValueError as err:
+        raise SimSetupError(str(err)) from None
+
+
+def check_runtime(name: str, value: Any, current: SessionConfig) -> str:
+    """Why a run-time change of parameter ``name`` to ``value`` is refused ('' : fine)."""
+    if name not in RUNTIME:
+        return f"{name} is read-only"
+    number = float(value)
+    if name == "goal_radius":
+        return "" if number >= 0.0 else "goal_radius must be >= 0 m"
+    if current.continuous is None and (number == 0.0) != (current.real_time_factor == 0.0):
+        return "real_time_factor cannot switch between lockstep (0) and real time at run time"
+    return "" if number >= 0.0 else "real_time_factor must be >= 0"
 
 
 def declare_parameters(node: Node, node_name: str) -> SimParameters:

@@ -1,15 +1,18 @@
 """The MENTOR simulator node: robots on the pymunk reference world, one decision per period.
 
-Everything it computes is :class:`mentor_core.SimSession` (episodes, stepping, events, sim
-time, recording). This module only wires rclpy to it: parameters (:mod:`.params`), publishers
-and ``cmd_vel`` subscriptions (the session's port; messages from :mod:`.conversions`), one
-wall timer and the ``~/reset`` service. See ``docs/ros.md`` for the full contract.
+Everything it computes is :class:`mentor_core.SimSession` (episodes, stepping, goals, events,
+sim time, recording). This module only wires rclpy to it: parameters (:mod:`.params`, two of
+them changeable at run time), publishers and subscriptions (:mod:`.topics`, the session's port;
+messages from :mod:`.conversions`), one wall timer and the ``~/reset`` service. See
+``docs/ros.md`` for the full contract.
 
 Stepping ("lockstep", ``real_time_factor`` 0, the default): each driving robot's ``scan`` and
 ``odom`` go out, and the step follows as soon as each has answered with one ``cmd_vel``
 (unanswered: published again every ``resend_period`` wall s; after ``answer_timeout`` > 0 the
 robot holds still). With ``real_time_factor`` r > 0 the timer steps every ``dt / r`` wall s
-with each robot's latest command (none: it holds still).
+with each robot's latest command (none: it holds still). With ``continuous`` the timer steps
+the physics every ``physics_step / real_time_factor`` wall s (real time when the factor is 0)
+with each robot's held velocity.
 
 The world goes out once, latched, as markers on ``/mentor/obstacles`` and as an occupancy
 grid on ``/map`` (:func:`mentor_core.source_map`).
@@ -18,141 +21,41 @@ grid on ``/map`` (:func:`mentor_core.source_map`).
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Any
 
 import rclpy
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
-from nav_msgs.msg import Odometry
-from numpy.typing import ArrayLike
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import NameValidationException, ParameterException
 from rclpy.executors import ExternalShutdownException
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
-from rclpy.qos import (
-    DurabilityPolicy,
-    HistoryPolicy,
-    QoSProfile,
-    ReliabilityPolicy,
-    qos_profile_sensor_data,
-)
-from rosgraph_msgs.msg import Clock as ClockMsg
-from sensor_msgs.msg import LaserScan
-from std_msgs.msg import String
+from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
-from visualization_msgs.msg import MarkerArray
 
 from mentor_core import (
     EpisodeRecorder,
-    EventKind,
     MentorError,
     OccupancyGrid,
     Outcome,
-    RobotProfile,
     SimSession,
     load_scenario_source,
+    parameter_fault,
     source_map,
 )
 from mentor_sim_node import conversions
-from mentor_sim_node.params import SimSetupError, declare_parameters
+from mentor_sim_node.params import SimSetupError, check_runtime, declare_parameters
+from mentor_sim_node.topics import QOS_COMMAND, QOS_LATCHED, Topics, subscribe_goals
 
 __all__ = ["NODE_NAME", "QOS_COMMAND", "QOS_LATCHED", "SimNode", "SimSetupError", "main"]
 
 NODE_NAME = "mentor_sim"
-OBSTACLES_TOPIC = "/mentor/obstacles"
 MAP_TOPIC = "/map"
-COMMAND_DEPTH = 10
-EVENT_DEPTH = 10
-LATCHED_DEPTH = 1
 WARN_EVERY_S = 5.0
-#: goals and obstacles: latched (transient local), reliable, the latest one
-QOS_LATCHED = QoSProfile(
-    history=HistoryPolicy.KEEP_LAST,
-    depth=LATCHED_DEPTH,
-    reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.TRANSIENT_LOCAL,
-)
-QOS_COMMAND = QoSProfile(depth=COMMAND_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
-QOS_EVENTS = QoSProfile(depth=EVENT_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
-QOS_CLOCK = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE)
 HOLD = (0.0, 0.0)
-Vec = Sequence[float]
-
-
-class _Robot:
-    """Publishers, subscription and the last observation of one robot namespace."""
-
-    def __init__(
-        self, node: Node, name: str, profile: RobotProfile, on_cmd: Callable[[Twist], None]
-    ) -> None:
-        self.profile = profile
-        sensor = qos_profile_sensor_data
-        self.scan_pub = node.create_publisher(LaserScan, f"{name}/scan", sensor)
-        self.odom_pub = node.create_publisher(Odometry, f"{name}/odom", sensor)
-        self.goal_pub = node.create_publisher(PoseStamped, f"{name}/goal", QOS_LATCHED)
-        self.events_pub = node.create_publisher(String, f"{name}/events", QOS_EVENTS)
-        self.cmd_sub = node.create_subscription(Twist, f"{name}/cmd_vel", on_cmd, QOS_COMMAND)
-        self.last: tuple[LaserScan, Odometry] | None = None
-
-
-class _Topics:
-    """The node's publishers as the session's port (:class:`mentor_core.SessionPort`)."""
-
-    def __init__(
-        self,
-        node: Node,
-        robots: Sequence[tuple[str, RobotProfile]],
-        on_command: Callable[[str], Callable[[Twist], None]],
-    ) -> None:
-        self._log = node.get_logger()
-        self.clock_pub = node.create_publisher(ClockMsg, "/clock", QOS_CLOCK)
-        self.markers_pub = node.create_publisher(MarkerArray, OBSTACLES_TOPIC, QOS_LATCHED)
-        self.robots = {n: _Robot(node, n, p, on_command(n)) for n, p in robots}
-
-    def clock(self, time_ns: int) -> None:
-        self.clock_pub.publish(ClockMsg(clock=conversions.time_from_ns(time_ns)))
-
-    def goal(self, robot: str, goal: Vec, time_ns: int) -> None:
-        msg = conversions.pose_stamped_from_goal(goal, conversions.time_from_ns(time_ns))
-        self.robots[robot].goal_pub.publish(msg)
-
-    def event(
-        self, robot: str, kind: EventKind, scenario: int, time_ns: int, goal: Vec | None
-    ) -> None:
-        msg = conversions.event_string(kind, scenario, time_ns, goal)
-        self.robots[robot].events_pub.publish(msg)
-
-    def observation(
-        self, robot: str, ranges: ArrayLike, pose: Vec, twist: Vec, time_ns: int
-    ) -> None:
-        r = self.robots[robot]
-        stamp = conversions.time_from_ns(time_ns)
-        frame = f"{robot}/base_link"
-        scan = conversions.laser_scan_from_ranges(ranges, r.profile, stamp, frame)
-        odom = conversions.odometry_from_pose(pose, twist, stamp, robot)
-        r.scan_pub.publish(scan)
-        r.odom_pub.publish(odom)
-        r.last = (scan, odom)
-
-    def odometry(self, robot: str, pose: Vec, twist: Vec, time_ns: int) -> None:
-        stamp = conversions.time_from_ns(time_ns)
-        msg = conversions.odometry_from_pose(pose, twist, stamp, robot)
-        self.robots[robot].odom_pub.publish(msg)
-
-    def resend(self, robots: Sequence[str]) -> None:
-        """Publish the last observation of ``robots`` again (same stamp)."""
-        for name in robots:
-            last = self.robots[name].last
-            if last is not None:
-                self.robots[name].scan_pub.publish(last[0])
-                self.robots[name].odom_pub.publish(last[1])
-
-    def info(self, text: str) -> None:
-        self._log.info(text)
-
-    def error(self, text: str) -> None:
-        self._log.error(text)
 
 
 class SimNode(Node):
@@ -177,20 +80,30 @@ class SimNode(Node):
         source = load_scenario_source(
             p.world, p.scenario_bag, cfg.robots[0][1], p.seed, map_yaml=p.map_yaml
         )
-        self._topics = _Topics(self, cfg.robots, self._command_callback)
+        self._topics = Topics(
+            self, cfg.robots, cfg.wiring, self._command_callback, self._goal_callback
+        )
         #: the episodes being run: everything the node computes
         self.session = session = SimSession(source, cfg, self._topics)
+        self._goal_pose_subs = (
+            subscribe_goals(self, p.goal_pose_topic, self._on_goal_pose, latched=False)
+            if p.goal_pose_topic
+            else []
+        )
         self._reset_srv = self.create_service(Trigger, "~/reset", self._on_reset)
-        wall = Clock(clock_type=ClockType.STEADY_TIME)
-        rtf = cfg.real_time_factor
-        period = session.dt / rtf if rtf > 0.0 else cfg.resend_period
-        self._timer = self.create_timer(period, self._on_timer, clock=wall)
+        self._wall = Clock(clock_type=ClockType.STEADY_TIME)
+        self._timer = self.create_timer(self._period(cfg.real_time_factor), self._on_timer,
+                                        clock=self._wall)
+        self.add_on_set_parameters_callback(self._on_parameters)
         self._topics.markers_pub.publish(conversions.markers_from_world(session.world))
         self._publish_map(source_map(source, p.map_resolution))
+        self._topics.publish_description(session.time_ns)
         self._topics.clock(session.time_ns)
+        rtf = cfg.real_time_factor
         self.get_logger().info(
             f"simulating {', '.join(f'{n} ({pr.name})' for n, pr in cfg.robots)} "
             f"on {source.origin}: {len(source.scenarios)} scenarios, "
+            + ("continuous, " if session.continuous else "")
             + ("as fast as the planners answer" if rtf == 0.0 else f"{rtf}x real time")
         )
 
@@ -199,6 +112,15 @@ class SimNode(Node):
         plans and RViz."""
         self._map_pub = self.create_publisher(OccupancyGridMsg, MAP_TOPIC, QOS_LATCHED)
         self._map_pub.publish(conversions.occupancy_grid_from_grid(grid))
+
+    def _period(self, real_time_factor: float) -> float:
+        """Wall s between two timer ticks."""
+        cfg = self.session.config
+        if cfg.continuous is not None:
+            return cfg.continuous.physics_step / (real_time_factor or 1.0)
+        if real_time_factor > 0.0:
+            return self.session.dt / real_time_factor
+        return cfg.resend_period
 
     # ------------------------------------------------------------------ state, for callers
 
@@ -256,6 +178,45 @@ class SimNode(Node):
             received = (float(msg.linear.x), float(msg.angular.z))
             self.session.command(name, decision, received)
 
+    def _goal_callback(self, name: str) -> Callable[[PoseStamped], None]:
+        def callback(msg: PoseStamped) -> None:
+            if not self._topics.echo(name, msg):  # its own goal, coming back
+                self._on_goal([name], msg)
+
+        return callback
+
+    def _on_goal_pose(self, msg: PoseStamped) -> None:
+        self._on_goal([name for name, _ in self.session.config.robots], msg)
+
+    def _on_goal(self, robots: list[str], msg: PoseStamped) -> None:
+        """A goal for ``robots`` from a goal topic (its two subscriptions may both deliver
+        it: the session takes a goal it already has as no change)."""
+        try:
+            frame, xy = conversions.goal_request(msg)
+        except ValueError as err:
+            self.get_logger().warning(f"goal refused: {err}")
+            return
+        self.session.give_goal(robots, frame, xy)
+
+    def _on_parameters(self, params: list[Parameter]) -> SetParametersResult:
+        """Run-time changes of ``real_time_factor`` and ``goal_radius`` (the rest is
+        read-only: rclpy refuses those before this is called)."""
+        for param in params:
+            why = check_runtime(param.name, param.value, self.session.config)
+            if why:
+                return SetParametersResult(successful=False, reason=why)
+        for param in params:
+            value = float(param.value)
+            if param.name == "goal_radius":
+                self.session.goal_radius = value if value > 0.0 else None
+            elif param.name == "real_time_factor":
+                self._timer.cancel()
+                self.destroy_timer(self._timer)
+                self._timer = self.create_timer(self._period(value), self._on_timer,
+                                                clock=self._wall)
+            self.get_logger().info(f"{param.name} set to {value}")
+        return SetParametersResult(successful=True)
+
     def _on_timer(self) -> None:
         tick = self.session.tick()
         late = ", ".join(tick.robots)
@@ -300,7 +261,16 @@ class SimNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown; a bad setup is one line on stderr and exit status 2."""
-    rclpy.init(args=args)
+    fault = parameter_fault(sys.argv if args is None else args)
+    if fault:
+        print(f"mentor_sim: bad ROS arguments: {fault}", file=sys.stderr)
+        sys.exit(2)
+    try:
+        rclpy.init(args=args)
+    except rclpy_implementation.RCLError as err:  # other arguments rcl cannot parse
+        text = " ".join(str(err).split()).split(", at /")[0]
+        print(f"mentor_sim: bad ROS arguments: {text}", file=sys.stderr)
+        sys.exit(2)
     try:
         node = SimNode()
     except (MentorError, ValueError, ParameterException, NameValidationException) as err:
@@ -314,3 +284,4 @@ def main(args: list[str] | None = None) -> None:
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
+

@@ -57,6 +57,20 @@ _EXPORTS: dict[str, str] = {
     "ODOM_FRAME": "mentor_core.sim.frames",
     "yaw_to_quaternion": "mentor_core.sim.frames",
     "quaternion_to_yaw": "mentor_core.sim.frames",
+    "Transform2D": "mentor_core.sim.transforms",
+    "FrameTree": "mentor_core.sim.transforms",
+    "planar_transform": "mentor_core.sim.transforms",
+    "LidarSpec": "mentor_core.sim.lidar",
+    "LaserScanData": "mentor_core.sim.scan_adapter",
+    "LidarMount": "mentor_core.sim.scan_adapter",
+    "ScanReadings": "mentor_core.sim.scan_adapter",
+    "readings_from_scan": "mentor_core.sim.scan_adapter",
+    "FrameLink": "mentor_core.sim.robot_description",
+    "frame_id": "mentor_core.sim.robot_description",
+    "robot_links": "mentor_core.sim.robot_description",
+    "robot_urdf": "mentor_core.sim.robot_description",
+    "BASE_LINK": "mentor_core.sim.robot_description",
+    "LIDAR_LINK": "mentor_core.sim.robot_description",
     # objectives
     "performance": "mentor_core.objectives.performance",
     "experience_gain": "mentor_core.objectives.experience",
@@ -110,6 +124,12 @@ _EXPORTS: dict[str, str] = {
     "SessionConfig": "mentor_core.runtime.sim_session",
     "SessionPort": "mentor_core.runtime.sim_session",
     "Outcome": "mentor_core.runtime.sim_session",
+    "Wiring": "mentor_core.runtime.wiring",
+    "PlannerFrames": "mentor_core.runtime.planner_frames",
+    "parameter_fault": "mentor_core.runtime.ros_arguments",
+    "ContinuousConfig": "mentor_core.runtime.session_config",
+    "bounds_fault": "mentor_core.runtime.goal_intake",
+    "Bounds": "mentor_core.runtime.goal_intake",
     # report
     "write_report": "mentor_core.report.markdown",
 }
@@ -249,6 +269,12 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.report.markdown import (
         write_report as write_report,
     )
+    from mentor_core.runtime.goal_intake import (
+        Bounds as Bounds,
+    )
+    from mentor_core.runtime.goal_intake import (
+        bounds_fault as bounds_fault,
+    )
     from mentor_core.runtime.guided_planner import (
         GuidedPlanner as GuidedPlanner,
     )
@@ -267,8 +293,14 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.runtime.planner import (
         GenomePlanner as GenomePlanner,
     )
+    from mentor_core.runtime.planner_frames import (
+        PlannerFrames as PlannerFrames,
+    )
     from mentor_core.runtime.recording import (
         EpisodeRecorder as EpisodeRecorder,
+    )
+    from mentor_core.runtime.ros_arguments import (
+        parameter_fault as parameter_fault,
     )
     from mentor_core.runtime.scenario_plan import (
         ScenarioPlan as ScenarioPlan,
@@ -278,6 +310,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.scenario_plan import (
         source_map as source_map,
+    )
+    from mentor_core.runtime.session_config import (
+        ContinuousConfig as ContinuousConfig,
     )
     from mentor_core.runtime.sim_session import (
         Outcome as Outcome,
@@ -297,6 +332,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.runtime.simulator import (
         ReferenceSimulator as ReferenceSimulator,
     )
+    from mentor_core.runtime.wiring import (
+        Wiring as Wiring,
+    )
     from mentor_core.sim.frames import (
         MAP_FRAME as MAP_FRAME,
     )
@@ -309,6 +347,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.sim.frames import (
         yaw_to_quaternion as yaw_to_quaternion,
     )
+    from mentor_core.sim.lidar import (
+        LidarSpec as LidarSpec,
+    )
     from mentor_core.sim.observation import (
         action_from_twist as action_from_twist,
     )
@@ -318,6 +359,24 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.sim.observation import (
         twist_from_action as twist_from_action,
     )
+    from mentor_core.sim.robot_description import (
+        BASE_LINK as BASE_LINK,
+    )
+    from mentor_core.sim.robot_description import (
+        LIDAR_LINK as LIDAR_LINK,
+    )
+    from mentor_core.sim.robot_description import (
+        FrameLink as FrameLink,
+    )
+    from mentor_core.sim.robot_description import (
+        frame_id as frame_id,
+    )
+    from mentor_core.sim.robot_description import (
+        robot_links as robot_links,
+    )
+    from mentor_core.sim.robot_description import (
+        robot_urdf as robot_urdf,
+    )
     from mentor_core.sim.robots import (
         RobotProfile as RobotProfile,
     )
@@ -326,6 +385,27 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.sim.robots import (
         load_profiles as load_profiles,
+    )
+    from mentor_core.sim.scan_adapter import (
+        LaserScanData as LaserScanData,
+    )
+    from mentor_core.sim.scan_adapter import (
+        LidarMount as LidarMount,
+    )
+    from mentor_core.sim.scan_adapter import (
+        ScanReadings as ScanReadings,
+    )
+    from mentor_core.sim.scan_adapter import (
+        readings_from_scan as readings_from_scan,
+    )
+    from mentor_core.sim.transforms import (
+        FrameTree as FrameTree,
+    )
+    from mentor_core.sim.transforms import (
+        Transform2D as Transform2D,
+    )
+    from mentor_core.sim.transforms import (
+        planar_transform as planar_transform,
     )
     from mentor_core.sim.world import (
         Scenario as Scenario,

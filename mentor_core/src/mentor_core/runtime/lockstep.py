@@ -11,6 +11,11 @@ decision becomes ``(0, 0)``.
 Real time (:class:`LatestCommands`): the simulator steps on a timer with each robot's latest
 command since the last step; a robot without one holds still.
 
+Continuous (:class:`HeldCommands`): physics steps at a fixed step; each robot keeps driving its
+latest velocity command ``(v, omega)`` (m/s, rad/s) until another replaces it, or until it is
+older than the command timeout (sim time), when the robot stops, as a ``diff_drive``
+controller does.
+
 Times are wall-clock seconds (any monotonic clock); decisions are ``(dtheta, ds)`` (rad, m).
 """
 
@@ -67,6 +72,10 @@ class CommandBarrier:
         self._waiting.discard(robot)
         self._decisions[robot] = (float(decision[0]), float(decision[1]))
         return True
+
+    def drop(self, robot: str) -> None:
+        """``robot`` owes no answer any more (its episode ended between two steps)."""
+        self._waiting.discard(robot)
 
     def poll(self, now: float) -> Poll:
         """What to do at ``now``: ``idle`` (nothing asked or all answered), ``wait``,
@@ -125,3 +134,71 @@ class LatestCommands:
     def clear(self) -> None:
         """Forget everything."""
         self._latest.clear()
+
+
+#: a body velocity command ``(v, omega)``: m/s along the body's x, rad/s about z
+Velocity = tuple[float, float]
+STOP: Velocity = (0.0, 0.0)
+
+
+class HeldCommands:
+    """Continuous mode: each robot's latest velocity, held until replaced or timed out.
+
+    Args:
+        timeout_ns: sim ns after which a command no longer holds (the robot stops); 0: never.
+    """
+
+    def __init__(self, timeout_ns: int) -> None:
+        if timeout_ns < 0:
+            raise ValueError(f"command timeout must be >= 0, got {timeout_ns} ns")
+        self.timeout_ns = int(timeout_ns)
+        self._held: dict[str, tuple[Velocity, int]] = {}
+
+    def answer(self, robot: str, velocity: Velocity, now_ns: int) -> None:
+        """A command of ``robot`` received at sim time ``now_ns``; it replaces the last."""
+        self._held[robot] = ((float(velocity[0]), float(velocity[1])), int(now_ns))
+
+    def velocity(self, robot: str, now_ns: int) -> tuple[Velocity, bool]:
+        """The velocity ``robot`` drives at ``now_ns`` and whether its command has just timed
+        out (it then stops, and the command is forgotten). A robot never commanded stands."""
+        held = self._held.get(robot)
+        if held is None:
+            return STOP, False
+        velocity, since = held
+        if self.timeout_ns and now_ns - since > self.timeout_ns:
+            del self._held[robot]
+            return STOP, velocity != STOP
+        return velocity, False
+
+    def clear(self) -> None:
+        """Forget every command (an episode ended)."""
+        self._held.clear()
+
+
+class PublishSchedule:
+    """Continuous mode: when the simulator publishes a scan (with odometry) and when
+    odometry alone, every ``scan_ns`` and ``odom_ns`` sim ns, at the first step on or after
+    each due time."""
+
+    def __init__(self, scan_ns: int, odom_ns: int) -> None:
+        if scan_ns <= 0 or odom_ns <= 0:
+            raise ValueError(f"publish periods must be positive, got {scan_ns}, {odom_ns} ns")
+        self.scan_ns, self.odom_ns = int(scan_ns), int(odom_ns)
+        self._scan = self._odom = 0
+
+    def restart(self, now_ns: int) -> None:
+        """Both are due at ``now_ns`` (an episode starts)."""
+        self._scan = self._odom = int(now_ns)
+
+    def due(self, now_ns: int) -> Literal["scan", "odom", ""]:
+        """What is due at ``now_ns`` (a scan carries odometry too); it is then counted done."""
+        if now_ns >= self._scan:
+            while self._scan <= now_ns:
+                self._scan += self.scan_ns
+            self._odom = now_ns + self.odom_ns
+            return "scan"
+        if now_ns >= self._odom:
+            while self._odom <= now_ns:
+                self._odom += self.odom_ns
+            return "odom"
+        return ""

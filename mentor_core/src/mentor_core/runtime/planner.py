@@ -13,18 +13,27 @@ stamp (ns, sim time) and asks it
 * :meth:`DecisionGate.take`: a new observation to answer, once per pair of latest scan and
   latest odometry whose stamps lie within ``sync_tolerance`` of each other and whose stamp
   differs from the last one answered (a repeated observation is answered only once; a clock
-  that jumps back, as when the simulator restarts, is followed);
+  that jumps back, as when the simulator restarts, is followed), or whose goal differs from
+  the one it was answered with (a new goal is a new question);
 * :meth:`DecisionGate.watchdog`: once per control period, whether the planner has gone
   ``stale_after`` without answering (missing or stale data); the node then sends a zero
-  Twist and a throttled warning.
+  Twist and a throttled warning. The node's times are its steady clock's, so the watchdog
+  fires when sim time stops;
+* :meth:`DecisionGate.arrived`: the robot stands within the goal radius of its goal (the
+  goal is then done and dropped, as a navigation stack's goal checker does).
+
+Goals: a goal within :data:`~mentor_core.runtime.goal_intake.SAME_GOAL` m of the current one
+is the same goal (the simulator's ``started`` event and a goal topic may carry one goal through
+different frames).
 
 Episode events (optional; a planner fed by something other than the simulator never gets
-any): after an end event (reached, collided, timed out) the robot no longer drives, so the
-gate answers nothing and the watchdog stays quiet until the next ``started`` event, which may
-carry the new goal. The simulator publishes the next episode's ``started`` event before its
-first observation, and the planner node handles events before observations (its events
-subscription comes first), so an observation of a new episode is never answered with the
-previous episode's goal, whatever order the goal topic and the observations arrive in.
+any): after an end event (reached, collided, timed out) the robot no longer drives and its goal
+is done, so the gate answers nothing and the watchdog stays quiet until the next ``started``
+event, which may carry the new goal. The simulator publishes the next episode's ``started``
+event before its first observation, and the planner node handles events before observations
+(its events subscription comes first), so an observation of a new episode is never answered
+with the previous episode's goal, whatever order the goal topic and the observations arrive
+in.
 """
 
 from __future__ import annotations
@@ -41,6 +50,7 @@ from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.sim import observation
 from mentor_core.sim.robots import (
     ROBOTS_ENV,
@@ -158,8 +168,8 @@ class DecisionGate:
     """When the planner node decides, and when its data is stale (module docstring).
 
     Message stamps (sim time of the scan and odometry) decide which observation is new;
-    node times (the node's clock when a message is handled, sim time under
-    ``use_sim_time``) drive the watchdog, so the two time bases never mix.
+    node times (the node's steady clock when a message is handled) drive the watchdog, so the
+    two time bases never mix.
 
     Args:
         stale_after: s (node time) without an answered observation after which the
@@ -178,6 +188,7 @@ class DecisionGate:
         self._odom: tuple[int, Pose] | None = None
         self._goal: tuple[float, float] | None = None
         self._answered_stamp: int | None = None  # stamp of the last observation answered
+        self._answered_goal: tuple[float, float] | None = None  # the goal it was answered with
         self._answered_at: int | None = None  # node time of that answer
         self._since: int | None = None  # node time the watchdog counts from before an answer
         self._idle = False
@@ -195,9 +206,29 @@ class DecisionGate:
         """The latest odometry pose, stamped ``stamp_ns``."""
         self._odom = (int(stamp_ns), (float(pose[0]), float(pose[1]), float(pose[2])))
 
-    def on_goal(self, goal: tuple[float, float]) -> None:
-        """A new goal (x, y) in ``map``."""
-        self._goal = (float(goal[0]), float(goal[1]))
+    @property
+    def goal(self) -> tuple[float, float] | None:
+        """The goal being driven to (None: none)."""
+        return self._goal
+
+    def on_goal(self, goal: tuple[float, float]) -> bool:
+        """A goal (x, y) in the frame the planner decides in; False when it is the goal
+        already held."""
+        new = (float(goal[0]), float(goal[1]))
+        if same_goal(self._goal, new):
+            return False
+        self._goal = new
+        return True
+
+    def arrived(self, pose: Pose, radius: float) -> bool:
+        """The robot at ``pose`` stands within ``radius`` (m) of its goal; the goal is then
+        dropped (nothing is answered until another comes)."""
+        if self._goal is None:
+            return False
+        if np.hypot(pose[0] - self._goal[0], pose[1] - self._goal[1]) > radius:
+            return False
+        self._goal = None
+        return True
 
     def on_event(
         self, kind: str, now_ns: int, goal: tuple[float, float] | None = None
@@ -206,6 +237,7 @@ class DecisionGate:
         event may carry the episode's goal (x, y)."""
         if kind in _END_EVENTS:
             self._idle = True
+            self._goal = None
         elif kind == "started":
             self._idle = False
             self._since = int(now_ns)
@@ -224,9 +256,10 @@ class DecisionGate:
         if abs(scan_ns - odom_ns) > self.sync_tolerance_ns:
             return None
         stamp = max(scan_ns, odom_ns)
-        if stamp == self._answered_stamp:
+        if stamp == self._answered_stamp and self._goal == self._answered_goal:
             return None
         self._answered_stamp = stamp
+        self._answered_goal = self._goal
         self._answered_at = int(now_ns)
         return Observation(stamp, ranges.copy(), pose, self._goal)
 

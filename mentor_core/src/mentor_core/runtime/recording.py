@@ -50,8 +50,11 @@ from mentor_core.files.bags import (
     write_episode_bag,
 )
 from mentor_core.runtime.simulator import Decide, RobotSetup, RobotTrace, run_reference_episode
+from mentor_core.sim.frames import MAP_FRAME, ODOM_FRAME
 from mentor_core.sim.observation import twist_from_action
+from mentor_core.sim.robot_description import FrameLink, robot_links
 from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.transforms import IDENTITY, Transform2D
 from mentor_core.sim.world import Scenario, World
 
 RECORDER_FORMAT = "mentor-sim-recording"
@@ -69,11 +72,24 @@ class _Streams:
 
 
 class EpisodeRecorder:
-    """Collects one simulator run for an episode bag (see the module docstring)."""
+    """Collects one simulator run for an episode bag (see the module docstring).
 
-    def __init__(self, world: World, control_period: float, namespaces: Sequence[str]) -> None:
+    ``map_to_odom``: the pose of ``odom`` in ``map`` (the odometry recorded is in ``odom``);
+    ``lidar``: the robots' lidar mount, if they have one (a frame of the bag's TF tree).
+    """
+
+    def __init__(
+        self,
+        world: World,
+        control_period: float,
+        namespaces: Sequence[str],
+        map_to_odom: Transform2D = IDENTITY,
+        lidar: Transform2D | None = None,
+    ) -> None:
         self.world = world
         self.control_period = float(control_period)
+        self.map_to_odom = map_to_odom
+        self.lidar = lidar
         self._streams = {ns: _Streams([], [], [], [], []) for ns in namespaces}
         self._episodes: list[dict[str, Any]] = []
 
@@ -88,23 +104,40 @@ class EpisodeRecorder:
             {
                 "episode": int(episode),
                 "start_ns": int(start_ns),
-                "robots": [
-                    {
-                        "name": s.name,
-                        "profile": s.profile.name,
-                        "scenario": int(s.scenario),
-                        "start": [float(v) for v in s.start],
-                        "goal": [float(v) for v in s.goal],
-                        "time_budget": float(
-                            s.profile.time_budget(s.start[:2], s.goal)
-                            if s.time_budget is None
-                            else s.time_budget
-                        ),
-                    }
-                    for s in setups
-                ],
+                "robots": [_setup_json(s) for s in setups],
             }
         )
+
+    def join(self, stamp_ns: int, setup: RobotSetup) -> None:
+        """A robot that waited for its goal starts in the current episode at ``stamp_ns`` (its
+        setup: where it stands, the goal it was given)."""
+        if not self._episodes:
+            raise ValueError("no episode begun")
+        entry = _setup_json(setup)
+        entry["start_ns"] = int(stamp_ns)
+        self._episodes[-1]["robots"].append(entry)
+        self.goal(setup.name, stamp_ns, setup.goal)
+
+    def goal_changed(
+        self, ns: str, stamp_ns: int, goal: Sequence[float], time_budget: float, steps: int
+    ) -> None:
+        """``ns`` took a new goal (x, y in ``map``) with a new time budget (s) after ``steps``
+        decisions of the current episode. Before its first decision the episode's setup is
+        that goal (it is re-simulated with it); later ones are listed under ``goal_changes``
+        (re-simulation does not follow them)."""
+        xy = (float(goal[0]), float(goal[1]))
+        self.goal(ns, stamp_ns, xy)
+        robots = self._episodes[-1]["robots"] if self._episodes else []
+        entry = next((r for r in robots if r["name"] == ns), None)
+        if entry is None:
+            return
+        if steps == 0:
+            entry["goal"] = list(xy)
+            entry["time_budget"] = float(time_budget)
+        else:
+            change = {"stamp_ns": int(stamp_ns), "step": int(steps), "goal": list(xy),
+                      "time_budget": float(time_budget)}
+            entry.setdefault("goal_changes", []).append(change)
 
     def scan(self, ns: str, stamp_ns: int, ranges: ArrayLike) -> None:
         """A published scan (m, +inf beyond range)."""
@@ -125,7 +158,8 @@ class EpisodeRecorder:
 
     def goal(self, ns: str, stamp_ns: int, goal: Sequence[float]) -> None:
         """A published goal (x, y)."""
-        self._streams[ns].goals.append(GoalRecord(int(stamp_ns), (float(goal[0]), goal[1])))
+        xy = (float(goal[0]), float(goal[1]))
+        self._streams[ns].goals.append(GoalRecord(int(stamp_ns), xy))
 
     def event(self, ns: str, stamp_ns: int, kind: EventKind, scenario: int) -> None:
         """A published episode event."""
@@ -157,7 +191,16 @@ class EpisodeRecorder:
                 "episodes": list(self._episodes),
             }
         )
+        if not self.map_to_odom.is_identity:
+            meta["map_to_odom"] = list(self.map_to_odom.as_tuple())
         return meta
+
+    def static_frames(self, profile: RobotProfile) -> list[FrameLink]:
+        """The fixed part of the bag's TF tree: ``map -> odom`` and every robot's frames."""
+        links = [FrameLink(MAP_FRAME, ODOM_FRAME, self.map_to_odom)]
+        for ns in self._streams:
+            links.extend(robot_links(profile, ns, self.lidar))
+        return links
 
     def save(
         self,
@@ -167,7 +210,8 @@ class EpisodeRecorder:
         *,
         overwrite: bool = False,
     ) -> None:
-        """Write the episode bag (all-or-nothing); every robot must be of ``profile``."""
+        """Write the episode bag (all-or-nothing), with its TF tree; every robot must be of
+        ``profile``."""
         write_episode_bag(
             path,
             self.robots(),
@@ -175,7 +219,20 @@ class EpisodeRecorder:
             self.metadata(extra),
             world=self.world,
             overwrite=overwrite,
+            static_frames=self.static_frames(profile),
         )
+
+
+def _setup_json(s: RobotSetup) -> dict[str, Any]:
+    budget = s.profile.time_budget(s.start[:2], s.goal) if s.time_budget is None else s.time_budget
+    return {
+        "name": s.name,
+        "profile": s.profile.name,
+        "scenario": int(s.scenario),
+        "start": [float(v) for v in s.start],
+        "goal": [float(v) for v in s.goal],
+        "time_budget": float(budget),
+    }
 
 
 def record_trace(
@@ -204,8 +261,9 @@ def record_trace(
         recorder.command(ns, stamp, float(linear_x), float(angular_z))
         twist = (float(linear_x), float(angular_z))
     end = start_ns + trace.steps * dt_ns
-    if trace.outcome != "active":
-        recorder.event(ns, end, trace.outcome, setup.scenario)
+    outcome = trace.outcome
+    if outcome == "reached" or outcome == "collided" or outcome == "timed_out":
+        recorder.event(ns, end, outcome, setup.scenario)
     recorder.odometry(ns, end, trace.poses[trace.steps], (0.0, 0.0))
     return end
 
@@ -270,7 +328,8 @@ class RecordedRun:
         episode: index of the episode in the recording; setup: its exact setup.
         outcome: the end event (``reached``, ``collided``, ``timed_out``), None if it never
             ended in the recording.
-        scans, odometry, commands: the records stamped within the episode.
+        scans, odometry, commands: the records stamped within the episode (odometry
+            turned from ``odom`` into ``map``, as the setup).
     """
 
     episode: int
@@ -316,6 +375,23 @@ def recording_world(log: EpisodeLog, source: str | Path = "<bag>") -> World:
     return world_from_json(log.metadata.get("world"), source)
 
 
+def recording_map_to_odom(log: EpisodeLog, source: str | Path = "<bag>") -> Transform2D:
+    """The pose of ``odom`` in ``map`` the recording was made with (identity when absent)."""
+    raw = log.metadata.get("map_to_odom")
+    if raw is None:
+        return IDENTITY
+    try:
+        return Transform2D.of([float(v) for v in raw])
+    except (TypeError, ValueError) as err:
+        raise FileFormatError(source, f"bad map_to_odom in the metadata ({err})") from None
+
+
+def _in_map(record: OdomRecord, map_to_odom: Transform2D) -> OdomRecord:
+    if map_to_odom.is_identity:
+        return record
+    return OdomRecord(record.stamp_ns, map_to_odom.apply_pose(record.pose), record.twist)
+
+
 def recorded_episodes(log: EpisodeLog, source: str | Path = "<bag>") -> list[RecordedRun]:
     """Split a recording into one :class:`RecordedRun` per robot and episode.
 
@@ -323,6 +399,7 @@ def recorded_episodes(log: EpisodeLog, source: str | Path = "<bag>") -> list[Rec
     end event (inclusive); they are matched with the metadata's episodes in order.
     """
     setups = episode_setups(log, source)
+    to_map = recording_map_to_odom(log, source)
     per_robot: dict[str, list[tuple[int, RobotSetup]]] = {}
     for e, ep in enumerate(setups):
         for s in ep:
@@ -355,7 +432,9 @@ def recorded_episodes(log: EpisodeLog, source: str | Path = "<bag>") -> list[Rec
                     setup=setup,
                     outcome=None if end is None else end.kind,
                     scans=tuple(r for r in robot.scans if within(r.stamp_ns)),
-                    odometry=tuple(r for r in robot.odometry if within(r.stamp_ns)),
+                    odometry=tuple(
+                        _in_map(r, to_map) for r in robot.odometry if within(r.stamp_ns)
+                    ),
                     commands=tuple(r for r in robot.commands if within(r.stamp_ns)),
                 )
             )

@@ -19,7 +19,13 @@ An episode gives each robot a start pose, a goal and a time budget ``T_tot`` (de
   poses. A robot stops for good on ``reached`` or ``collided``, or ``timed_out`` when it has
   used its ``ceil(T_tot / dt)`` decisions. Finished robots stay in the world as obstacles.
 * time: a decision takes one control period ``dt``, except the arriving one, which takes the
-  share of the period spent up to the arriving sample (as in ``run_episodes``).
+  share of the period spent up to the arriving sample (as in ``run_episodes``). A simulator
+  stepping physics finer than ``dt`` (``step_period``, the node's continuous mode) counts its
+  steps and time per physics step instead, and a robot times out when its time is used.
+* goals: :meth:`ReferenceSimulator.set_goal` gives a robot a new goal, whoever set it, and a
+  time budget for it from where the robot stands; a robot started with ``wait_for_goals`` is
+  placed (an obstacle to the others) but waits, without a ``started`` event, until its first
+  goal. ``goal_radius``, when set, replaces the profiles' goal radius.
 
 What a robot's planner receives through ROS is :func:`wire_ranges` (a LaserScan carries
 float32 ranges) and :func:`wire_pose` (the heading travels as a quaternion), and what the
@@ -29,16 +35,19 @@ the reference episode does the same, so an episode through ROS equals it bit for
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from mentor_core.sim import observation
-from mentor_core.sim.frames import quaternion_to_yaw, yaw_to_quaternion
+from mentor_core.runtime.wiring import Wiring
+from mentor_core.runtime.wiring import wire_decision as wire_decision  # re-exported
+from mentor_core.runtime.wiring import wire_pose as wire_pose
+from mentor_core.runtime.wiring import wire_ranges as wire_ranges
 from mentor_core.sim.pymunk_world import PymunkWorld
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import World
@@ -47,7 +56,7 @@ FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
 EndKind = Literal["reached", "collided", "timed_out"]
 EventKind = Literal["started", "reached", "collided", "timed_out"]
-Status = Literal["active", "reached", "collided", "timed_out"]
+Status = Literal["waiting", "active", "reached", "collided", "timed_out"]
 #: ``decide(ranges (k,), pose (x, y, theta), goal (x, y)) -> (dtheta, ds)`` (rad, m)
 Decide = Callable[[FloatArray, Pose, tuple[float, float]], tuple[float, float]]
 
@@ -112,29 +121,6 @@ class RobotState:
     scenario: int
 
 
-def wire_ranges(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
-    """Readings (k,) as a ``sensor_msgs/LaserScan`` delivers them: beyond range ``+inf``
-    (REP-117), the rest rounded to float32 (m)."""
-    r = np.asarray(ranges, dtype=np.float64).reshape(-1)
-    r = np.where(r > profile.sensor_range, np.inf, r)
-    return r.astype(np.float32).astype(np.float64)
-
-
-def wire_pose(pose: Sequence[float]) -> Pose:
-    """Pose as a ``nav_msgs/Odometry`` delivers it: x, y unchanged, the heading through a yaw
-    quaternion and back (within 1e-12 rad)."""
-    x, y, theta = (float(v) for v in pose)
-    return x, y, quaternion_to_yaw(*yaw_to_quaternion(theta))
-
-
-def wire_decision(dtheta: float, ds: float, dt: float) -> tuple[float, float]:
-    """Decision as the simulator applies it after a ``geometry_msgs/Twist``: ``(angular.z dt,
-    linear.x dt)`` with ``angular.z = dtheta / dt``, ``linear.x = ds / dt`` (rad, m)."""
-    wz, vx = observation.twist_from_action(dtheta, ds, dt)
-    back_dtheta, back_ds = observation.action_from_twist(wz, vx, dt)
-    return float(back_dtheta), float(back_ds)
-
-
 def decision_limit(time_budget: float, control_period: float) -> int:
     """Decisions a time budget allows: ``ceil(T_tot / dt)`` (as ``run_episodes``)."""
     if not (math.isfinite(time_budget) and time_budget >= 0.0):
@@ -159,13 +145,22 @@ class ReferenceSimulator:
     Args:
         world: arena and obstacles.
         control_period: dt, s; every robot of an episode decides once per dt.
+        step_period: s of one :meth:`step` (default: dt); smaller for continuous driving.
     """
 
-    def __init__(self, world: World, control_period: float) -> None:
+    def __init__(
+        self, world: World, control_period: float, step_period: float | None = None
+    ) -> None:
         if not (math.isfinite(control_period) and control_period > 0.0):
             raise ValueError(f"control period must be positive, got {control_period}")
+        step = control_period if step_period is None else step_period
+        if not (math.isfinite(step) and step > 0.0):
+            raise ValueError(f"step period must be positive, got {step_period}")
         self.world = world
         self.control_period = float(control_period)
+        self.step_period = float(step)
+        #: goal radius of every robot, m (None: each profile's)
+        self.goal_radius: float | None = None
         self._physics: PymunkWorld | None = None
         self._setups: dict[str, RobotSetup] = {}
         self._status: dict[str, Status] = {}
@@ -189,9 +184,22 @@ class ReferenceSimulator:
         """No robot is driving (also before the first episode)."""
         return not self.active
 
-    def start(self, setups: Sequence[RobotSetup]) -> tuple[list[Event], list[Rejection]]:
+    @property
+    def waiting(self) -> tuple[str, ...]:
+        """The robots placed but waiting for a goal, sorted."""
+        return tuple(n for n in self.robots if self._status[n] == "waiting")
+
+    def radius(self, name: str) -> float:
+        """Goal radius of a robot, m."""
+        return self.profile(name).goal_radius if self.goal_radius is None else self.goal_radius
+
+    def start(
+        self, setups: Sequence[RobotSetup], wait_for_goals: bool = False
+    ) -> tuple[list[Event], list[Rejection]]:
         """Begin a new episode (a fresh physics space); returns its first events and the
-        rejected robots. ValueError for duplicate names or another control period."""
+        rejected robots. With ``wait_for_goals`` the robots are placed waiting for a goal
+        (:meth:`set_goal`; their setups' goals are not used). ValueError for duplicate names
+        or another control period."""
         names = [s.name for s in setups]
         if len(set(names)) != len(names):
             raise ValueError(f"robot names must be unique, got {names}")
@@ -224,23 +232,55 @@ class ReferenceSimulator:
             )
             self._setups[s.name] = s
             self._budget[s.name] = budget
-            self._allowed[s.name] = decision_limit(budget, self.control_period)
+            self._allowed[s.name] = decision_limit(budget, self.step_period)
             self._steps[s.name] = 0
             self._time[s.name] = 0.0
-            self._status[s.name] = "active"
-            events.append(Event(s.name, "started", s.scenario))
-        for name in self.robots:  # already there, or no decision allowed (as run_episodes)
-            s = self._setups[name]
-            end: EndKind
-            if _distance(physics.pose(name), s.goal) <= s.profile.goal_radius:
-                end = "reached"
-            elif self._allowed[name] == 0:
-                end = "timed_out"
-            else:
-                continue
-            self._status[name] = end
-            events.append(Event(name, end, s.scenario))
+            self._status[s.name] = "waiting" if wait_for_goals else "active"
+            if not wait_for_goals:
+                events.append(Event(s.name, "started", s.scenario))
+        for name in self.active:  # already there, or no decision allowed (as run_episodes)
+            events.extend(self._end_at_start(name))
         return events, rejected
+
+    def _end_at_start(self, name: str) -> list[Event]:
+        """End event of a robot that starts within its goal radius or with no decision."""
+        assert self._physics is not None
+        s = self._setups[name]
+        end: EndKind
+        if _distance(self._physics.pose(name), s.goal) <= self.radius(name):
+            end = "reached"
+        elif self._allowed[name] == self._steps[name]:
+            end = "timed_out"
+        else:
+            return []
+        self._status[name] = end
+        return [Event(name, end, s.scenario)]
+
+    def set_goal(
+        self, name: str, goal: Sequence[float], time_budget: float | None = None
+    ) -> list[Event]:
+        """Give a waiting or driving robot a new goal (x, y) in ``map`` and a time budget for
+        it, from where it stands (None: :meth:`RobotProfile.time_budget`); its decisions and
+        time so far stay counted. A waiting robot starts (``started``); a robot within the goal
+        radius has reached it at once. ValueError for a robot whose episode has ended or a
+        goal that is not finite."""
+        status = self._status[self._known(name)]
+        if status not in ("waiting", "active"):
+            raise ValueError(f"robot {name!r} has ended its episode ({status})")
+        g = (float(goal[0]), float(goal[1]))
+        if not all(math.isfinite(v) for v in g):
+            raise ValueError(f"goal {g} is not finite")
+        s = self._setups[name]
+        pose = self.pose(name)
+        budget = s.profile.time_budget(pose[:2], g) if time_budget is None else time_budget
+        self._setups[name] = dataclasses.replace(s, goal=g, time_budget=float(budget))
+        self._budget[name] = self._time[name] + float(budget)
+        self._allowed[name] = self._steps[name] + decision_limit(budget, self.step_period)
+        events = []
+        if status == "waiting":
+            self._status[name] = "active"
+            events.append(Event(name, "started", s.scenario))
+        return events + self._end_at_start(name)
 
     def state(self, name: str) -> RobotState:
         """Status, counters, pose and goal of a robot of the current episode."""
@@ -266,6 +306,12 @@ class ReferenceSimulator:
         self._known(name)
         assert self._physics is not None
         return self._physics.pose(name)
+
+    def scan(self, name: str, wiring: Wiring, rng: np.random.Generator | None) -> FloatArray:
+        """The lidar scan of a robot at its pose (m, REP-117 coded), as ``wiring`` says."""
+        self._known(name)
+        assert self._physics is not None
+        return wiring.scan(self._physics, name, rng)
 
     def observe(self, name: str) -> FloatArray:
         """Range readings (k,) of a robot at its pose, m, +inf beyond range (float64)."""
@@ -293,9 +339,9 @@ class ReferenceSimulator:
             assert self._physics is not None
             s = self._setups[name]
             dtheta, ds = decisions[name]
-            move = self._physics.drive(name, float(dtheta), float(ds), s.goal)
+            move = self._physics.drive(name, float(dtheta), float(ds), s.goal, self.radius(name))
             self._steps[name] += 1
-            self._time[name] += (move.fraction if move.reached else 1.0) * self.control_period
+            self._time[name] += (move.fraction if move.reached else 1.0) * self.step_period
             end: EndKind
             if move.collided:
                 end = "collided"
@@ -374,19 +420,25 @@ def run_reference_episode(
     *,
     control_period: float | None = None,
     max_steps: int = 100_000,
+    wiring: Wiring | None = None,
 ) -> dict[str, RobotTrace]:
     """Run one episode of ``setups`` to the end, each robot deciding with its policy.
 
     Every control period each active robot's policy gets :func:`wire_ranges` of its readings,
     :func:`wire_pose` of its pose and its goal, exactly what the planner node receives over
-    ROS. Rejected robots are left out of the result. ``control_period`` defaults to the
-    first profile's.
+    ROS. With ``wiring`` (:class:`mentor_core.runtime.wiring.Wiring`) it gets instead what the
+    planner receives from a simulator with a lidar and an ``odom`` frame: the readings it
+    derives from the lidar scan (robot ``i`` of ``setups`` drawing the noise of generator
+    ``i``), pose and goal in ``odom``. Rejected robots are left out of the result.
+    ``control_period`` defaults to the first profile's.
     """
     if not setups:
         return {}
     dt = setups[0].profile.control_period if control_period is None else control_period
+    wire = Wiring() if wiring is None else wiring
     sim = ReferenceSimulator(world, dt)
     sim.start(setups)
+    rngs = {s.name: wire.generator(i) for i, s in enumerate(setups)}
     poses: dict[str, list[Pose]] = {n: [sim.pose(n)] for n in sim.robots}
     seen: dict[str, list[FloatArray]] = {n: [] for n in sim.robots}
     taken: dict[str, list[tuple[float, float]]] = {n: [] for n in sim.robots}
@@ -396,8 +448,13 @@ def run_reference_episode(
         decisions = {}
         for name in sim.active:
             state = sim.state(name)
-            r = wire_ranges(sim.observe(name), sim.profile(name))
-            dtheta, ds = policies[name](r, wire_pose(state.pose), state.goal)
+            profile = sim.profile(name)
+            if wire.lidar is None:
+                r = wire_ranges(sim.observe(name), profile)
+            else:
+                r = wire.readings(sim.scan(name, wire, rngs[name]), profile)
+            pose = wire.wire_pose(state.pose)
+            dtheta, ds = policies[name](r, pose, wire.odom_goal(state.goal))
             decisions[name] = wire_decision(dtheta, ds, dt)
             seen[name].append(r)
             taken[name].append((float(decisions[name][0]), float(decisions[name][1])))

@@ -3,7 +3,8 @@
 Robot profiles (body, range sensors, action limits, time budgets), worlds and the paper's DoE
 scenarios, unicycle kinematics, ray-cast sensors, body collisions, the planner's network inputs
 and actions (observation), the batched engine and episodes the trainer runs, the pymunk
-reference physics, and the REP-103/REP-105 frame conventions.
+reference physics, the REP-103/REP-105 frame conventions and planar transforms, a simulated
+lidar, a robot's sensors read off any laser scan, and a robot's frames and URDF.
 
 Knows nothing of evolution: imports only ``mentor_core.errors``, ``mentor_core.atomic`` and
 its own modules.

@@ -1,9 +1,10 @@
 """Frame and angle conventions of MENTOR's ROS side (REP-103 units, REP-105 frames).
 
-``map`` is the arena frame; the simulator's odometry is drift-free, so ``odom`` coincides
-with ``map``. Headings (yaw, rad, counter-clockwise about +z) travel as quaternions
-``(x, y, z, w)``: :func:`yaw_to_quaternion` and back with :func:`quaternion_to_yaw`. The bags
-and the node packages fill their messages with these same numbers.
+``map`` is the arena frame; ``odom`` the odometry frame (the simulator places it at a fixed
+pose in ``map``, identity by default: :mod:`mentor_core.sim.transforms`). Headings (yaw, rad,
+counter-clockwise about +z) travel as quaternions ``(x, y, z, w)``: :func:`yaw_to_quaternion`
+and back with :func:`quaternion_to_yaw`. The bags and the node packages fill their messages
+with these same numbers.
 """
 
 from __future__ import annotations

@@ -187,6 +187,23 @@ class PymunkWorld:
                     out[i] = min(out[i], hit.alpha * reach)
         return out
 
+    def cast(
+        self, origin: ArrayLike, angles: ArrayLike, reach: float, robot: str | None = None
+    ) -> NDArray[np.float64]:
+        """Distance (m) from ``origin`` (x, y) along each map-frame direction ``angles`` (rad)
+        to the first obstacle, wall or other robot, as :meth:`ranges` measures it
+        (``alpha * reach``); +inf when nothing lies within ``reach`` (a simulated lidar)."""
+        ox, oy = (float(v) for v in np.asarray(origin, dtype=np.float64).reshape(-1)[:2])
+        a = np.asarray(angles, dtype=np.float64).reshape(-1)
+        shape_filter = self._filter(robot)
+        out = np.full(a.size, np.inf, dtype=np.float64)
+        ends = np.stack([ox + reach * np.cos(a), oy + reach * np.sin(a)], axis=1)
+        for k, (ex, ey) in enumerate(ends.tolist()):
+            hit = self._space.segment_query_first((ox, oy), (ex, ey), 0.0, shape_filter)
+            if hit is not None:
+                out[k] = hit.alpha * reach
+        return out
+
     def collides(
         self, pose: ArrayLike, robot: str | None = None, profile: RobotProfile | None = None
     ) -> bool:

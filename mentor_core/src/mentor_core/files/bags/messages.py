@@ -16,7 +16,7 @@ with the node packages, which fill rclpy messages with the same numbers.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Any, Final
@@ -39,6 +39,7 @@ from mentor_core.sim.frames import MAP_FRAME, yaw_to_quaternion
 if TYPE_CHECKING:
     from rosbags.typesys.store import Typestore
 
+    from mentor_core.sim.robot_description import FrameLink
     from mentor_core.sim.robots import RobotProfile
     from mentor_core.sim.world import World
 
@@ -195,6 +196,29 @@ def _pose(ts: Typestore, x: float, y: float, theta: float = 0.0, z: float = 0.0)
     qx, qy, qz, qw = yaw_to_quaternion(theta)
     q = _msg(ts, "geometry_msgs/msg/Quaternion", x=qx, y=qy, z=qz, w=qw)
     return _msg(ts, "geometry_msgs/msg/Pose", position=_point(ts, x, y, z), orientation=q)
+
+
+def _tf_message(ts: Typestore, stamp_ns: int, links: Sequence[FrameLink]) -> Any:
+    """A ``tf2_msgs/TFMessage`` of planar transforms (z 0), all stamped ``stamp_ns``."""
+    transforms = []
+    for link in links:
+        t = link.transform
+        qx, qy, qz, qw = yaw_to_quaternion(t.yaw)
+        transforms.append(
+            _msg(
+                ts,
+                "geometry_msgs/msg/TransformStamped",
+                header=_header(ts, stamp_ns, link.parent),
+                child_frame_id=link.child,
+                transform=_msg(
+                    ts,
+                    "geometry_msgs/msg/Transform",
+                    translation=_msg(ts, "geometry_msgs/msg/Vector3", x=t.x, y=t.y, z=0.0),
+                    rotation=_msg(ts, "geometry_msgs/msg/Quaternion", x=qx, y=qy, z=qz, w=qw),
+                ),
+            )
+        )
+    return _msg(ts, "tf2_msgs/msg/TFMessage", transforms=transforms)
 
 
 def _string(ts: Typestore, obj: Mapping[str, Any]) -> Any:

@@ -21,7 +21,10 @@ the robot namespaces) and, per robot namespace ``<ns>``, ``/<ns>/scan``
 (``sensor_msgs/LaserScan``, +inf out of range, REP-117), ``/<ns>/odom`` (``nav_msgs/Odometry``,
 ``odom`` -> ``<ns>/base_link``), ``/<ns>/cmd_vel`` (``geometry_msgs/Twist``), ``/<ns>/goal``
 (``geometry_msgs/PoseStamped`` in ``map``) and ``/<ns>/events`` (``std_msgs/String`` JSON).
-Bag times and header stamps are simulation time in ns.
+Bag times and header stamps are simulation time in ns. A simulator recording also holds the
+frames: ``/tf_static`` (``tf2_msgs/msg/TFMessage`` at time 0: ``map -> odom`` and each robot's
+``<ns>/base_link -> <ns>/sensor_<i>``, ``-> <ns>/lidar``) and ``/tf`` (``odom ->
+<ns>/base_link`` at every odometry stamp), so that viewers place everything in one tree.
 """
 
 from __future__ import annotations
@@ -43,6 +46,8 @@ METADATA_TOPIC: Final = "/mentor/metadata"
 OBSTACLES_TOPIC: Final = "/mentor/obstacles"
 STARTS_TOPIC: Final = "/mentor/starts"
 GOALS_TOPIC: Final = "/mentor/goals"
+TF_TOPIC: Final = "/tf"
+TF_STATIC_TOPIC: Final = "/tf_static"
 
 EventKind = Literal["started", "reached", "collided", "timed_out"]
 EVENT_KINDS: Final[tuple[str, ...]] = get_args(EventKind)

@@ -30,6 +30,7 @@ from mentor_core.files.bags.messages import (
     _pose,
     _store,
     _string,
+    _tf_message,
     _world_markers,
     scan_geometry,
 )
@@ -44,10 +45,14 @@ from mentor_core.files.bags.records import (
     ROSBAG2_VERSION,
     SCENARIO_FORMAT,
     STARTS_TOPIC,
+    TF_STATIC_TOPIC,
+    TF_TOPIC,
     RobotEpisode,
     _robot_topics,
 )
 from mentor_core.sim.frames import MAP_FRAME, ODOM_FRAME
+from mentor_core.sim.robot_description import FrameLink
+from mentor_core.sim.transforms import Transform2D
 
 if TYPE_CHECKING:
     from mentor_core.sim.robots import RobotProfile
@@ -201,13 +206,16 @@ def write_episode_bag(
     *,
     world: World | None = None,
     overwrite: bool = False,
+    static_frames: Sequence[FrameLink] | None = None,
 ) -> None:
     """Write recorded robot episodes (one namespace each) as a bag (layout: :mod:`.records`).
 
     Every scan must hold ``profile.n_sensors`` ranges (m; +inf out of range, no NaN); stamps
     are sim time in ns, non-decreasing per topic. ``world``, when given, is written as
-    ``/mentor/obstacles`` at time 0 (as in a scenario bag). Raises ``ValueError`` for bad
-    records, ``FileExistsError`` when ``path`` exists and ``overwrite`` is false.
+    ``/mentor/obstacles`` at time 0 (as in a scenario bag). ``static_frames``, when given,
+    are written on ``/tf_static`` at time 0, and every odometry record as its
+    ``odom -> <ns>/base_link`` transform on ``/tf``. Raises ``ValueError`` for bad records,
+    ``FileExistsError`` when ``path`` exists and ``overwrite`` is false.
     """
     ts = _store()
     names = [r.namespace for r in robots]
@@ -234,6 +242,11 @@ def write_episode_bag(
         topics.append(_Topic(OBSTACLES_TOPIC, "visualization_msgs/msg/MarkerArray", QOS_LATCHED))
         markers = _msg(ts, "visualization_msgs/msg/MarkerArray", markers=_world_markers(ts, world))
         first.append(_Out(OBSTACLES_TOPIC, "visualization_msgs/msg/MarkerArray", 0, markers))
+    if static_frames is not None:
+        topics.append(_Topic(TF_STATIC_TOPIC, "tf2_msgs/msg/TFMessage", QOS_LATCHED))
+        topics.append(_Topic(TF_TOPIC, "tf2_msgs/msg/TFMessage", QOS_COMMAND))
+        tree = _tf_message(ts, 0, static_frames)
+        first.append(_Out(TF_STATIC_TOPIC, "tf2_msgs/msg/TFMessage", 0, tree))
     timed: list[tuple[int, int, _Out]] = []  # (stamp, order, item): written in time order
 
     def add(item: _Out) -> None:
@@ -299,6 +312,10 @@ def write_episode_bag(
                 twist=twist,
             )
             add(_Out(topic["odom"], "nav_msgs/msg/Odometry", od.stamp_ns, msg))
+            if static_frames is not None:
+                moved = FrameLink(ODOM_FRAME, base, Transform2D(*od.pose))
+                tf = _tf_message(ts, od.stamp_ns, [moved])
+                add(_Out(TF_TOPIC, "tf2_msgs/msg/TFMessage", od.stamp_ns, tf))
         for cmd in robot.commands:
             if not (math.isfinite(cmd.linear_x) and math.isfinite(cmd.angular_z)):
                 raise ValueError(f"{ns} command at {cmd.stamp_ns} ns is not finite")

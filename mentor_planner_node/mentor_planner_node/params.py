@@ -1,0 +1,165 @@
+"""The planner node's parameters: declared (descriptions, ranges), then checked.
+
+All are read-only but ``goal_radius``, which may change while the node runs
+(:func:`check_goal_radius`). See ``docs/ros.md`` for the table.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rclpy.node import Node
+
+from mentor_core import (
+    MAP_FRAME,
+    LidarMount,
+    MentorError,
+    RobotProfile,
+    Transform2D,
+    get_profile,
+)
+
+#: periods without an answer before the watchdog fires, when ``stale_timeout`` is 0
+STALE_PERIODS = 3.0
+SCAN_KINDS = ("auto", "sensors", "lidar")
+
+
+class PlannerSetupError(MentorError):
+    """A parameter of the planner node is invalid (one line)."""
+
+
+@dataclass(frozen=True)
+class PlannerParameters:
+    """The checked parameters (``docs/ros.md``)."""
+
+    genome: str
+    profile: RobotProfile
+    control_period: float
+    stale_timeout: float
+    sync_tolerance: float
+    goal_radius: float
+    decide_on_timer: bool
+    scan_kind: str
+    ray_width: float
+    lidar_mount: LidarMount
+    map_to_odom: Transform2D
+    map_frame: str
+    goal_pose_topic: str
+    use_tf: bool
+
+
+def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
+    extra: dict[str, Any] = {}
+    if low is not None:
+        extra["floating_point_range"] = [FloatingPointRange(from_value=low, to_value=1e9)]
+    return ParameterDescriptor(description=text, read_only=not runtime, **extra)
+
+
+def _declarations() -> list[tuple[str, Any, Any]]:
+    return [
+        ("genome", "", _descriptor("genome JSON file ('' : answer zero Twists)")),
+        ("profile", "ugv", _descriptor("robot profile (robots.yaml)")),
+        ("control_period", 0.0, _descriptor("s per decision (0: the profile's)", low=0.0)),
+        (
+            "stale_timeout",
+            0.0,
+            _descriptor(
+                "wall s (steady clock) without an answered observation before a zero Twist "
+                f"(0: {STALE_PERIODS:g} control periods)",
+                low=0.0,
+            ),
+        ),
+        (
+            "sync_tolerance",
+            0.05,
+            _descriptor("s, largest stamp gap of a scan and the odometry used", low=0.0),
+        ),
+        (
+            "goal_radius",
+            0.0,
+            _descriptor(
+                "m, within it a goal is reached: zero Twist, goal done (0: the profile's); "
+                "changes at run time",
+                low=0.0,
+                runtime=True,
+            ),
+        ),
+        (
+            "decide_on_timer",
+            False,
+            _descriptor("decide every control period with the latest data (continuous mode) "
+                        "instead of answering each new observation (lockstep)"),
+        ),
+        ("scan_kind", "auto", _descriptor("auto | sensors (the simulator's) | lidar (any)")),
+        ("ray_width", 0.0, _descriptor("rad, field of view of a single-ray sensor", low=0.0)),
+        (
+            "lidar_mount",
+            [0.0, 0.0, 0.0],
+            _descriptor("pose [x, y, yaw] of the scan's frame on the body, where TF is "
+                        "not installed"),
+        ),
+        (
+            "map_to_odom",
+            [0.0, 0.0, 0.0],
+            _descriptor("pose [x, y, yaw] of the odometry frame in map, where TF is not "
+                        "installed"),
+        ),
+        ("map_frame", MAP_FRAME, _descriptor("the map's frame (goals without a frame)")),
+        ("goal_pose_topic", "/goal_pose", _descriptor("goals of RViz/Foxglove ('' : none)")),
+        ("use_tf", True, _descriptor("take frames from /tf where tf2_ros is installed")),
+    ]
+
+
+def _transform(values: Mapping[str, Any], key: str) -> Transform2D:
+    try:
+        return Transform2D.of([float(v) for v in values[key]])
+    except (TypeError, ValueError) as err:
+        raise PlannerSetupError(f"{key}: {err}") from None
+
+
+def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
+    """The parameters ``values`` (name -> value, all) checked. PlannerSetupError (a
+    ConfigError for an unknown profile)."""
+    profile = get_profile(str(values["profile"]))
+    period = float(values["control_period"]) or profile.control_period
+    stale = float(values["stale_timeout"]) or STALE_PERIODS * period
+    if stale <= period:
+        raise PlannerSetupError(
+            f"stale_timeout: {stale} s must exceed the control period {period} s"
+        )
+    kind = str(values["scan_kind"])
+    if kind not in SCAN_KINDS:
+        raise PlannerSetupError(f"scan_kind: {kind!r} is not one of {', '.join(SCAN_KINDS)}")
+    return PlannerParameters(
+        genome=str(values["genome"]),
+        profile=profile,
+        control_period=period,
+        stale_timeout=stale,
+        sync_tolerance=float(values["sync_tolerance"]),
+        goal_radius=float(values["goal_radius"]) or profile.goal_radius,
+        decide_on_timer=bool(values["decide_on_timer"]),
+        scan_kind=kind,
+        ray_width=float(values["ray_width"]),
+        lidar_mount=LidarMount(_transform(values, "lidar_mount")),
+        map_to_odom=_transform(values, "map_to_odom"),
+        map_frame=str(values["map_frame"]) or MAP_FRAME,
+        goal_pose_topic=str(values["goal_pose_topic"]),
+        use_tf=bool(values["use_tf"]),
+    )
+
+
+def declare_parameters(node: Node) -> PlannerParameters:
+    """Declare the node's parameters and check them."""
+    declared = node.declare_parameters("", _declarations())
+    return check_parameters({p.name: p.value for p in declared})
+
+
+def check_goal_radius(value: Any, profile: RobotProfile) -> tuple[float, str]:
+    """A run-time goal radius (0: the profile's) and why it is refused ('' : fine)."""
+    radius = float(value)
+    if radius < 0.0:
+        return radius, "goal_radius must be >= 0 m"
+    return (radius or profile.goal_radius), ""

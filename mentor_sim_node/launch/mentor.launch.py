@@ -1,0 +1,95 @@
+"""Launch the MENTOR simulator and one planner per robot (ROS 2 Jazzy with ``launch`` installed).
+
+    ros2 launch mentor_sim_node mentor.launch.py genome:=bags/regression/ugv_reference_genome.json
+    ros2 launch mentor_sim_node mentor.launch.py robots:=ugv_0,ugv_1 lidar_rays:=360 rviz:=true
+
+Arguments: ``robots`` (comma-separated namespaces), ``profile`` (of every robot), ``genome``,
+``world`` (a world file; '' : the training world), ``lidar_rays`` (> 0: the planners read the
+simulated lidar instead of the per-sensor scan), ``continuous`` (the simulator runs like
+Gazebo, the planners decide on their own timers), ``real_time_factor``, ``wait_for_goals``
+(robots wait for goals from RViz's "2D Goal Pose" tool), ``rviz`` (start RViz2 with this
+package's config). The pip-only install has no ``launch``: use the ``demo`` executable there.
+"""
+
+from __future__ import annotations
+
+import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchContext, LaunchDescription
+from launch.actions import DeclareLaunchArgument, OpaqueFunction
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+ARGUMENTS = {
+    "robots": "robot_0",
+    "profile": "ugv",
+    "genome": "bags/regression/ugv_reference_genome.json",
+    "world": "",
+    "lidar_rays": "0",
+    "continuous": "false",
+    "real_time_factor": "0.0",
+    "wait_for_goals": "false",
+    "rviz": "false",
+}
+
+
+def _truth(text: str) -> bool:
+    return text.strip().lower() in ("1", "true", "yes")
+
+
+def _nodes(context: LaunchContext) -> list[Node]:
+    value = {name: LaunchConfiguration(name).perform(context) for name in ARGUMENTS}
+    robots = [r.strip() for r in value["robots"].split(",") if r.strip()]
+    rays = int(value["lidar_rays"])
+    continuous = _truth(value["continuous"])
+    rate = float(value["real_time_factor"]) or (1.0 if continuous else 0.0)
+    nodes = [
+        Node(
+            package="mentor_sim_node",
+            executable="sim",
+            name="mentor_sim",
+            output="screen",
+            parameters=[{
+                "robots": robots,
+                "profiles": [value["profile"]],
+                "world": value["world"],
+                "lidar_rays": rays,
+                "continuous": continuous,
+                "real_time_factor": rate,
+                "wait_for_goals": _truth(value["wait_for_goals"]),
+            }],
+        )
+    ]
+    for ns in robots:
+        nodes.append(
+            Node(
+                package="mentor_planner_node",
+                executable="planner",
+                name="mentor_planner",
+                namespace=ns,
+                output="screen",
+                parameters=[{
+                    "genome": value["genome"],
+                    "profile": value["profile"],
+                    "use_sim_time": True,
+                    "decide_on_timer": continuous,
+                }],
+                remappings=[("scan", "lidar/scan")] if rays > 0 else [],
+            )
+        )
+    if _truth(value["rviz"]):
+        config = os.path.join(get_package_share_directory("mentor_sim_node"), "config",
+                              "mentor.rviz")
+        nodes.append(Node(package="rviz2", executable="rviz2", arguments=["-d", config],
+                          parameters=[{"use_sim_time": True}]))
+    return nodes
+
+
+def generate_launch_description() -> LaunchDescription:
+    """The launch description: the arguments, then the nodes they ask for."""
+    return LaunchDescription(
+        [DeclareLaunchArgument(name, default_value=default) for name, default in
+         ARGUMENTS.items()]
+        + [OpaqueFunction(function=_nodes)]
+    )
