@@ -23,9 +23,9 @@ Methods:
                reference the tests compare the kernels with.
     "auto"     "bounded" when numba imports, else "numpy". Measured with
                benchmarks/experience_bench.py: at the trainer's <= 4,000 points in 8-18 D
-               "bounded" is 1.4-3x "prim" (most where experiences repeat) and kd-tree boxes
-               prune little (the actions make the points truly high-dimensional); "boruvka"
-               wins on sensor-like data from about 16,000 points.
+               "bounded" is about 1.6x "prim" (1-3x, most where experiences repeat) and
+               kd-tree boxes prune little (the actions make the points truly
+               high-dimensional); "boruvka" wins on sensor-like data from about 16,000 points.
 """
 
 from __future__ import annotations
