@@ -5,7 +5,11 @@ Two kinds of data: "uniform" (i.i.d. uniform in the unit cube, the hard case for
 clip value, as the trainer produces). scipy's dense MST is timed only up to
 ``--scipy-max`` points (it needs the n x n matrix); larger sizes are listed under "skipped".
 
+Every method's time is the best of ``--repeat`` calls after a warm-up; scipy's the best of
+``--scipy-repeat``. ``scipy_over_<method>`` is scipy's time over the method's, in the same run.
+
 Usage: .venv/bin/python benchmarks/experience_bench.py [--sizes 1000 4000 16000] [--repeat 3]
+    [--dims 8 18] [--kinds sensor uniform] [--scipy-repeat 1]
 """
 
 from __future__ import annotations
@@ -62,6 +66,8 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 4000, 16000])
     parser.add_argument("--dims", type=int, nargs="+", default=[8, 18])
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--scipy-repeat", type=int, default=1)
+    parser.add_argument("--kinds", nargs="+", default=["sensor", "uniform"])
     parser.add_argument("--scipy-max", type=int, default=4000)
     parser.add_argument("--numpy-max", type=int, default=4000)
     parser.add_argument("--prim-max", type=int, default=16000)
@@ -72,13 +78,15 @@ def main() -> None:
 
     rows = []
     skipped = []
-    for kind in ("sensor", "uniform"):
+    for kind in args.kinds:
         for dim in args.dims:
             for n in args.sizes:
                 points = sensor_points(rng, n, dim) if kind == "sensor" else rng.random((n, dim))
                 row: dict[str, object] = {"data": kind, "n": n, "d": dim}
                 gains = {}
-                limits = {"boruvka": n, "prim": args.prim_max, "numpy": args.numpy_max}
+                limits = {
+                    "bounded": n, "prim": args.prim_max, "boruvka": n, "numpy": args.numpy_max,
+                }  # fmt: skip
                 for method, limit in limits.items():
                     if n > limit:
                         skipped.append(f"{method} {kind} n={n} d={dim}")
@@ -88,13 +96,17 @@ def main() -> None:
                     )
                     gains[method] = experience_gain(points, method)
                 if n <= args.scipy_max:
-                    row["scipy_dense_s"] = seconds(lambda p=points: scipy_dense(p), 1)
+                    scipy_s = seconds(lambda p=points: scipy_dense(p), args.scipy_repeat)
+                    row["scipy_dense_s"] = scipy_s
                     gains["scipy"] = scipy_dense(points)
-                    row["scipy_over_boruvka"] = row["scipy_dense_s"] / row["boruvka_s"]
+                    for method in limits:
+                        if f"{method}_s" in row:
+                            row[f"scipy_over_{method}"] = scipy_s / float(row[f"{method}_s"])
                 else:
                     skipped.append(f"scipy {kind} n={n} d={dim}")
                 if "prim_s" in row:
-                    row["prim_over_boruvka"] = row["prim_s"] / row["boruvka_s"]
+                    row["prim_over_bounded"] = float(row["prim_s"]) / float(row["bounded_s"])
+                row["bounded_equals_prim"] = gains["bounded"] == gains.get("prim")
                 ref = gains.get("scipy", gains["boruvka"])
                 row["max_rel_diff"] = max(abs(g - ref) / ref for g in gains.values())
                 rows.append(row)
@@ -108,7 +120,7 @@ def main() -> None:
         "data": "sensor",
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
     }
-    for method in ("boruvka", "prim"):
+    for method in ("bounded", "prim", "boruvka"):
         batch_result[f"{method}_gains_s"] = seconds(lambda m=method: experience_gains(batch, m), 1)
     batch_result["boruvka_serial_s"] = seconds(
         lambda: [experience_gain(points, "boruvka") for points in batch], 1

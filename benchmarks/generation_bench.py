@@ -11,12 +11,17 @@ the paper's mutation so they carry hidden nodes. ``--step-max`` runs the planner
 shorter step, as the shipped UGV training configs do (``step_max: 0.5``; longer episodes);
 ``--step-min`` and ``--clearance-margin`` set the rest of their step rule (0.02 and 0.2 m:
 ``--step-max 0.5 --step-min 0.02 --clearance-margin 0.2`` is the shipped UGV planner).
-Prints JSON.
+Also times the experience gain alone (``experience_gains`` on the generation's point sets, as
+the evaluator calls it: 100 MSTs spread over numba's threads) and its share of an in-process
+generation, in wall-clock seconds and in CPU seconds of this process (all threads; steadier
+than wall time when other jobs share the cores). Prints JSON. ``benchmarks/side_by_side.py``
+runs this script against two checkouts.
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import time
 
@@ -25,6 +30,7 @@ import numpy as np
 from mentor_core.evolution.config import EvolutionConfig
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.mutation import mutated_genomes
+from mentor_core.objectives.experience import experience_gains
 from mentor_core.sim.robots import get_profile, with_planner
 from mentor_core.sim.scenarios import training_scenarios
 from mentor_core.training.evaluators import make_evaluator
@@ -76,18 +82,38 @@ def main() -> None:
             for g in range(args.genomes)
         ])
     )
+    point_sets = [
+        np.concatenate(batch.experience[g * n_scen : (g + 1) * n_scen], axis=0)
+        for g in range(args.genomes)
+    ]
+    experience_gains(point_sets)  # warm-up: numba compile or cache load
+    mst_times, mst_cpu = [], []
+    for _ in range(args.repeats):
+        t0, c0 = time.perf_counter(), time.process_time()
+        experience_gains(point_sets)
+        mst_times.append(time.perf_counter() - t0)
+        mst_cpu.append(time.process_time() - c0)
+    mst_seconds = min(mst_times)
+    out["seconds_experience_gain"] = mst_seconds
+    out["cpu_seconds_experience_gain"] = min(mst_cpu)
     reference = None
     for workers in args.workers:
         with make_evaluator(problem, workers) as evaluator:
             evaluator.evaluate(genomes)  # warm-up: numba compile / pool start
-            times = []
+            times, cpu = [], []
             for _ in range(args.repeats):
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 result = evaluator.evaluate(genomes)
                 times.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
         if reference is None:
             reference = result.objectives
+            out["objectives_sha256"] = hashlib.sha256(reference.tobytes()).hexdigest()
         out[f"seconds_per_generation_workers{workers}"] = min(times)
+        if workers == 1:  # in process: this process's CPU time is the generation's
+            out["experience_gain_share_workers1"] = mst_seconds / min(times)
+            out["cpu_seconds_per_generation_workers1"] = min(cpu)
+            out["cpu_experience_gain_share_workers1"] = min(mst_cpu) / min(cpu)
         out[f"identical_to_first_backend_workers{workers}"] = bool(
             np.array_equal(reference, result.objectives)
         )

@@ -11,6 +11,7 @@ from scipy.sparse import coo_array
 from scipy.sparse.csgraph import minimum_spanning_tree
 from scipy.spatial.distance import pdist
 
+from mentor_core.objectives.emst_prim import bounded_prim_length, prim_length
 from mentor_core.objectives.experience import METHODS, experience_gain, experience_gains
 
 SENSOR_RANGE = 4.0
@@ -124,6 +125,58 @@ def test_bad_points_raise(bad: np.ndarray) -> None:
         experience_gain(bad)
     with pytest.raises(ValueError):
         experience_gains([np.zeros((3, 2)), bad])
+
+
+def trajectories(rng: np.random.Generator, n_scenarios: int, steps: int, d: int) -> np.ndarray:
+    """Experience-like points: smooth clipped walks; stuck robots repeat (or nearly) a point."""
+    walks = np.cumsum(rng.normal(0.0, 0.3, size=(n_scenarios, steps, d)), axis=1)
+    points = np.clip(walks + rng.uniform(-2.0, 6.0, size=(n_scenarios, 1, d)), 0.0, SENSOR_RANGE)
+    points[::3, steps // 2 :] = points[::3, steps // 2 : steps // 2 + 1]  # stuck: exact repeats
+    jitter = rng.normal(0.0, 1e-9, size=points[1::3, steps // 2 :].shape)
+    points[1::3, steps // 2 :] = points[1::3, steps // 2 : steps // 2 + 1] + jitter  # near-repeats
+    return points.reshape(-1, d)
+
+
+BOUNDED_CASES = {
+    "trajectories_18d": lambda rng: trajectories(rng, 12, 50, 18),
+    "trajectories_8d": lambda rng: trajectories(rng, 20, 30, 8),
+    "clipped_sensors": lambda rng: sensor_like(rng, 700, 8),
+    "grid_ties": lambda rng: np.stack(np.meshgrid(*[np.arange(5.0)] * 3), -1).reshape(-1, 3)[
+        rng.permutation(125)
+    ],
+    "one_dimension": lambda rng: rng.normal(size=(300, 1)),
+    "far_from_origin": lambda rng: rng.normal(size=(300, 6)) + 1e6,
+    "tiny_scale": lambda rng: rng.normal(size=(300, 5)) * 1e-30,
+    "beyond_float32": lambda rng: rng.normal(size=(300, 5)) * 1e20,
+    "just_above_small": lambda rng: rng.random((65, 4)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BOUNDED_CASES))
+def test_bounded_prim_equals_plain_prim_bit_for_bit(case: str) -> None:
+    # the bounded kernel adds the same edges in the same order: the very same float
+    points = np.ascontiguousarray(BOUNDED_CASES[case](np.random.default_rng(7)), dtype=np.float64)
+    assert bounded_prim_length(points) == prim_length(points)
+    assert experience_gain(points, "bounded") == pytest.approx(
+        scipy_mst_length(points), rel=1e-9, abs=1e-300
+    )
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.integers(64, 160),
+    st.integers(1, 7),
+    st.integers(0, 2**32 - 1),
+    st.sampled_from([0.0, 1e-12, 0.5]),
+)
+def test_bounded_prim_equals_plain_prim_on_clusters(
+    n: int, d: int, seed: int, spread: float
+) -> None:
+    # few centres, each repeated with a small (or no) jitter: ties and near-ties everywhere
+    rng = np.random.default_rng(seed)
+    centres = rng.integers(-3, 4, size=(max(2, n // 8), d)).astype(np.float64)
+    points = centres[rng.integers(0, len(centres), n)] + spread * rng.normal(size=(n, d))
+    assert bounded_prim_length(points) == prim_length(points)
 
 
 def test_unknown_method_raises() -> None:

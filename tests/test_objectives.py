@@ -1,4 +1,4 @@
-"""Paper eqs. 2-3: hand-computed values, clipping, and success always beating failure."""
+"""Paper eqs. 3-4: hand-computed values, clipping, and success always beating failure."""
 
 from __future__ import annotations
 

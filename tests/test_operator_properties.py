@@ -18,7 +18,7 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.evolution.species import distance
 
 PROPERTY = settings(max_examples=50, deadline=None)
-# add-edge is per node pair, so growth is explosive: stop growing past this many genes
+# a cap on genome size that keeps every example fast, whatever rates hypothesis draws
 MAX_GENES = 600
 
 

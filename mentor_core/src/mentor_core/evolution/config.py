@@ -30,7 +30,8 @@ from mentor_core.evolution.species import SpeciationConfig
 
 Robot = Literal["ugv", "swarm"]
 
-#: Table I of the paper: per-edge node addition, per-node-pair edge addition, per-edge weight.
+#: Table I of the paper: node addition per edge, edge addition per hidden or output node (one
+#: new in-edge; the paper: per node pair, see ``mutation``), weight mutation per edge.
 PAPER_TABLE_I: Mapping[str, Mapping[str, float]] = {
     "ugv": {"node_add": 0.05, "edge_add": 0.03, "weight": 0.25},
     "swarm": {"node_add": 0.08, "edge_add": 0.5, "weight": 0.25},

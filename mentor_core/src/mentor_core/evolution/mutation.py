@@ -1,7 +1,8 @@
-"""MENTOR mutation: per-edge weight and add-node mutations, per-node-pair add-edge mutation.
+"""MENTOR mutation: per-edge weight and add-node mutations, per-node add-edge mutation.
 
-Paper, section II "Crossover and Mutation": a fixed probability of mutating *each edge* (and
-each node pair) makes the expected amount of variation proportional to the network's size.
+Paper, section II "Crossover and Mutation": a fixed probability of mutating *each edge* makes
+the expected amount of variation proportional to the network's size; add-edge, which the paper
+applies "to different pairs of nodes", is one trial per non-input node here (see below).
 One call applies, in this order:
 
 1. weight mutation: every connection gene (enabled or not) with probability ``weight_rate``;

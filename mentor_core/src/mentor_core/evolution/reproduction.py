@@ -33,7 +33,7 @@ How the paper's text maps onto the steps, for a population of N genomes:
    ``crossover.crossover`` with ``a_better`` from the fitness comparison (``None`` on equal
    fitness, "randomly, if both parents belong to the same rank"); otherwise a copy of the first
    parent. Every child is then mutated by ``mutation.mutate`` (per-edge weight and node-addition
-   mutation, per-node-pair edge addition).
+   mutation; edge addition: each hidden or output node gains one new in-edge with the rate).
 
 Choices the paper leaves open, fixed here:
 

@@ -77,7 +77,9 @@ def distance(a: Genome, b: Genome, c1: float = 1.0, c2: float = 1.0, c3: float =
     ``D = c1 E / N + c2 J / N + c3 W``: ``E`` excess genes (innovation beyond the other
     genome's largest), ``J`` disjoint genes (the other unmatched genes), ``N`` the gene count of
     the larger genome (at least 1), ``W`` the mean absolute weight difference of matching genes
-    (0 if none). Disabled genes count like enabled ones.
+    (0 if none): NEAT's W-bar, the paper's symbol; its text says "summation", which would make
+    the distance grow with the genome's size (docs/algorithm.md, Distance). Disabled genes count
+    like enabled ones.
     """
     inn_a = np.fromiter((c.innovation for c in a.connections), dtype=np.int64)
     inn_b = np.fromiter((c.innovation for c in b.connections), dtype=np.int64)

@@ -1,13 +1,13 @@
-"""Performance objective of the paper (section "Criteria Functions", eqs. 2 and 3).
+"""Performance objective of the paper (section "Criteria Functions", eqs. 3 and 4).
 
-Per scenario i (eq. 3)::
+Per scenario i (eq. 4)::
 
     F_i = delta_i (1 + T_rem,i / T_tot,i) + (1 - delta_i) / (1 + S_f,i)
 
 with delta_i = 1 when the robot reached its goal, T_rem,i the time left on arrival, T_tot,i
 the scenario's time budget and S_f,i the final distance to the goal (m). A success scores in
 ``[1, 2]``, a failure in ``(0, 1]``, so any success beats any failure that ends away from the
-goal. Per genome (eq. 2): ``F = sum_i F_i`` over its scenarios.
+goal. Per genome (eq. 3): ``F = sum_i F_i`` over its scenarios.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ def scenario_performance(
     reached: ArrayLike, time_remaining: ArrayLike, time_budget: ArrayLike,
     final_distance: ArrayLike,
 ) -> FloatArray:
-    """F_i of paper eq. 3 for each scenario ``(n,)``.
+    """F_i of paper eq. 4 for each scenario ``(n,)``.
 
     Args:
         reached: delta_i, bool ``(n,)``.
@@ -47,7 +47,7 @@ def scenario_performance(
 
 
 def performance(batch: EpisodeBatch, n_genomes: int) -> FloatArray:
-    """F of paper eq. 2 per genome ``(n_genomes,)``.
+    """F of paper eq. 3 per genome ``(n_genomes,)``.
 
     The batch holds ``n_genomes * n_scenarios`` episodes, genome-major: robot
     ``g * n_scenarios + s`` is genome ``g`` on scenario ``s``.

@@ -50,7 +50,7 @@ def _figure(width: float, height: float) -> Figure:
 def pareto_front(points: ArrayLike, front: Sequence[int], title: str = "") -> Figure:
     """Performance F vs experience gain G of a population, its first front highlighted.
 
-    ``points`` is (n, 2) [F, G] (paper eq. 3 and the MST length of the visited states);
+    ``points`` is (n, 2) [F, G] (paper eqs. 3-4 and the MST length of eq. 8);
     ``front`` the indices of the non-dominated points (both objectives maximised).
     """
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)

@@ -224,7 +224,7 @@ def action_from_twist(
 def experience_point(
     ranges_t: ArrayLike, action: ArrayLike, ranges_t1: ArrayLike, profile: RobotProfile
 ) -> FloatArray:
-    """Experience points V = [U(t), A(t), U(t+1)] (paper eq. 4), (n, 2k + 2).
+    """Experience points V = [U(t), A(t), U(t+1)] (paper eq. 7), (n, 2k + 2).
 
     ``U`` are readings clipped as network inputs (:func:`clip_ranges`, m); ``A = (dtheta,
     ds)`` (rad, m) is the action taken between t and t + 1, given as (n, 2).

@@ -4,9 +4,9 @@ This is where evolution and simulation meet (pymoo's "problem"): every genome dr
 in every training scenario, all robots of a call step together in the batched engine, and each
 genome gets
 
-* F = sum_i F_i, paper eqs. (2)-(3) (``objectives.scenario_performance``), and
+* F = sum_i F_i, paper eqs. (3)-(4) (``objectives.scenario_performance``), and
 * G = total length of the Euclidean minimum spanning tree over the union of its experience
-  points V = [U(t), A(t), U(t+1)], paper eqs. (4)-(8) (``experience.experience_gain``).
+  points V = [U(t), A(t), U(t+1)], paper eqs. (5)-(8) (``experience.experience_gain``).
 
 Evaluation is deterministic and each genome's numbers do not depend on which other genomes
 share the call, so any split of the population over workers gives bit-identical results.
