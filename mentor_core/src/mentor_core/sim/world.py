@@ -10,11 +10,14 @@ World file (YAML, format ``mentor-world``, version 1, lengths in m, angles in ra
     version: 1
     units: m                     # optional; only "m" is accepted
     name: demo                   # optional
-    size: 12.0
+    size: 12.0                   # (0, 1e5] m
     obstacles:                   # may be empty
       - [1.0, 1.0, 2.0, 1.5]     # xmin, ymin, xmax, ymax
     scenarios:                   # optional start/goal pairs
       - {start: [0.5, 0.5, 0.0], goal: [10.0, 10.0]}   # start (x, y, theta), goal (x, y)
+
+Read with YAML 1.2 numbers (``1e3`` is a number) and strict types (``size: "12"`` is refused);
+every fault is one FileFormatError line naming the file and the key.
 """
 
 from __future__ import annotations
@@ -23,20 +26,23 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
 from numpy.typing import ArrayLike, NDArray
+from pydantic import Field
 
 from mentor_core.atomic import write_text_atomic
-from mentor_core.errors import FileFormatError, is_number, is_version
+from mentor_core.errors import ConfigError, FileFormatError, is_version
 from mentor_core.sim.kinematics import wrap_angle
+from mentor_core.validation import Float, Str, config_dataclass, read_yaml, validate
 
 WORLD_FORMAT = "mentor-world"
 WORLD_VERSION = 1
-_TOP_KEYS = {"format", "version", "units", "name", "size", "obstacles", "scenarios"}
-_SCENARIO_KEYS = {"start", "goal"}
+#: the largest arena side, m: beyond it float64 positions lose the sub-micrometre precision
+#: that collision checks and ray casts rely on (the robots' arenas are 4-12 m)
+MAX_ARENA_SIZE = 1e5
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +64,11 @@ class World:
         size = float(self.size)
         if not math.isfinite(size) or size <= 0.0:
             raise ValueError(f"arena size must be a positive finite number, got {self.size!r}")
+        if size > MAX_ARENA_SIZE:
+            raise ValueError(
+                f"arena size {size:g} m is beyond the largest arena, {MAX_ARENA_SIZE:g} m "
+                "(larger ones lose the float precision the collision checks need)"
+            )
         boxes = np.array(self.obstacles, dtype=np.float64, copy=True)
         if boxes.size == 0:
             boxes = boxes.reshape(0, 4)
@@ -177,72 +188,58 @@ def _point_fault(world: World, xy: Sequence[float]) -> str:
     return ""
 
 
+@config_dataclass
+class _ScenarioEntry:
+    start: tuple[Float, Float, Float]
+    goal: tuple[Float, Float]
+
+
+@config_dataclass
+class _WorldFile:
+    """The keys of a world file (module docstring), types checked; the geometry is checked
+    by :class:`World` and :class:`Scenario`."""
+
+    format: Str
+    version: Annotated[int, Field(strict=True)]
+    size: Float
+    units: Literal["m"] = "m"
+    name: Str = ""
+    obstacles: list[tuple[Float, Float, Float, Float]] | None = None
+    scenarios: list[_ScenarioEntry] | None = None
+
+
 def load_world(path: str | Path) -> tuple[World, list[Scenario]]:
-    """Read and validate a world file; FileFormatError naming the file and the fault."""
+    """Read and validate a world file; FileFormatError naming the file, the key and the fault
+    (for a missing, empty or non-YAML file as :func:`mentor_core.validation.read_yaml`)."""
     source = Path(path)
+    doc = read_yaml(source)
+    if isinstance(doc, dict):  # the format first: a foreign file is named as such
+        if doc.get("format") != WORLD_FORMAT:
+            raise FileFormatError(
+                source, f"format is {doc.get('format')!r}, not {WORLD_FORMAT!r}"
+            )
+        if not is_version(doc.get("version"), WORLD_VERSION):
+            raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
     try:
-        text = source.read_text(encoding="utf-8")
-    except OSError as err:
-        raise FileFormatError(source, f"cannot read world file ({err.strerror})") from None
-    try:
-        doc = yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        line = str(err).strip().splitlines()[0] if str(err).strip() else "parse error"
-        raise FileFormatError(source, f"not valid YAML ({line})") from None
-    try:
-        return _world_from_doc(doc)
-    except (ValueError, TypeError) as err:
+        spec = validate(_WorldFile, doc)
+    except ConfigError as err:
         raise FileFormatError(source, str(err)) from None
-
-
-def _world_from_doc(doc: Any) -> tuple[World, list[Scenario]]:
-    if not isinstance(doc, dict):
-        raise ValueError("expected a mapping at the top level")
-    if doc.get("format") != WORLD_FORMAT:
-        raise ValueError(f"format is {doc.get('format')!r}, not {WORLD_FORMAT!r}")
-    if not is_version(doc.get("version"), WORLD_VERSION):
-        raise ValueError(f"version {doc.get('version')!r} is not supported")
-    unknown = sorted(set(map(str, doc)) - _TOP_KEYS)
-    if unknown:
-        raise ValueError(f"unknown key {unknown[0]!r}")
-    if doc.get("units", "m") != "m":
-        raise ValueError(f"units must be 'm', got {doc.get('units')!r}")
-    if "size" not in doc:
-        raise ValueError("missing key 'size'")
-    size = _numbers(doc["size"], "size", 1)[0]
-    raw = doc.get("obstacles") or []
-    if not isinstance(raw, list):
-        raise ValueError("obstacles must be a list of [xmin, ymin, xmax, ymax]")
-    boxes = [_numbers(b, f"obstacles[{i}]", 4) for i, b in enumerate(raw)]
-    name = str(doc.get("name", ""))
-    world = World(size=size, obstacles=np.array(boxes).reshape(-1, 4), name=name)
-    entries = doc.get("scenarios") or []
-    if not isinstance(entries, list):
-        raise ValueError("scenarios must be a list of {start, goal}")
+    try:
+        World(size=spec.size)  # the size alone first, so that its fault is named as such
+    except ValueError as err:
+        raise FileFormatError(source, f"size: {err}") from None
+    boxes = np.array(spec.obstacles or [], dtype=np.float64).reshape(-1, 4)
+    try:
+        world = World(size=spec.size, obstacles=boxes, name=spec.name)
+    except ValueError as err:  # names the obstacle: obstacles[i] ...
+        raise FileFormatError(source, str(err)) from None
     scenarios = []
-    for i, entry in enumerate(entries):
-        if not isinstance(entry, dict) or set(map(str, entry)) != _SCENARIO_KEYS:
-            raise ValueError(f"scenarios[{i}] must have exactly the keys start and goal")
-        start = _numbers(entry["start"], f"scenarios[{i}].start", 3)
-        goal = _numbers(entry["goal"], f"scenarios[{i}].goal", 2)
+    for i, entry in enumerate(spec.scenarios or []):
         try:
-            scenarios.append(Scenario(world, (start[0], start[1], start[2]), (goal[0], goal[1])))
+            scenarios.append(Scenario(world, entry.start, entry.goal))
         except ValueError as err:
-            raise ValueError(f"scenarios[{i}]: {err}") from None
+            raise FileFormatError(source, f"scenarios[{i}]: {err}") from None
     return world, scenarios
-
-
-def _numbers(value: Any, key: str, n: int) -> list[float]:
-    """``n`` finite numbers from a scalar (n = 1) or a list; ValueError naming ``key``."""
-    items = [value] if n == 1 and not isinstance(value, list) else value
-    if not isinstance(items, list) or len(items) != n:
-        raise ValueError(f"{key} must be a list of {n} numbers")
-    for v in items:
-        if not is_number(v):
-            raise ValueError(f"{key} must hold numbers, got {v!r}")
-        if not math.isfinite(v):
-            raise ValueError(f"{key} is not finite ({v})")
-    return [float(v) for v in items]
 
 
 def save_world(path: str | Path, world: World, scenarios: Iterable[Scenario] = ()) -> None:
