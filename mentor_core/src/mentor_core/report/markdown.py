@@ -26,6 +26,10 @@ from mentor_core.report.runs import EvalRun, RunData, is_finished, load_eval, lo
 from mentor_core.report.tables import _fmt, _md_table, _pct, _spread, genome_tables, run_numbers
 
 FRAMEWORKS = ("single", "dual")
+#: the first line of every report.md: how a folder is known to hold an earlier report
+REPORT_TITLE = "# MENTOR report"
+REPORT_FILE = "report.md"
+_FIGURE_LINK = re.compile(r"\]\(([^)/\\]+\.png)\)")
 
 
 def _slug(text: str) -> str:
@@ -51,6 +55,24 @@ def _eval_group(run: EvalRun, runs: Sequence[RunData], base: Path) -> tuple[str,
     return _framework_of(run.label) or run.label, "-"
 
 
+def is_report_dir(path: str | Path) -> bool:
+    """Whether ``path`` is a folder holding a report of :func:`write_report` (its report.md
+    starts with :data:`REPORT_TITLE`)."""
+    report = Path(path) / REPORT_FILE
+    try:
+        with report.open(encoding="utf-8") as handle:
+            return handle.readline().rstrip("\n") == REPORT_TITLE
+    except (OSError, UnicodeDecodeError):
+        return False
+
+
+def _linked_figures(out: Path) -> set[str]:
+    """The figures (PNG file names) an earlier report in ``out`` links to."""
+    if not is_report_dir(out):
+        return set()
+    return set(_FIGURE_LINK.findall((out / REPORT_FILE).read_text(encoding="utf-8")))
+
+
 def write_report(
     run_dirs: Sequence[str | Path],
     eval_jsons: Sequence[str | Path] = (),
@@ -61,8 +83,9 @@ def write_report(
     """Write the figures (PNG) and ``report.md`` of some runs and evaluations into ``out_dir``.
 
     Unfinished runs (no ``population.json``) are skipped with a warning line on ``log``
-    (stderr by default); a missing or corrupt file raises FileFormatError naming it. Returns
-    the path of ``report.md``.
+    (stderr by default); a missing or corrupt file raises FileFormatError naming it. An
+    earlier report in ``out_dir`` is replaced: its figures that this report does not draw are
+    removed, other files are left alone. Returns the path of ``report.md``.
     """
     stream = log if log is not None else sys.stderr
     out = Path(out_dir)
@@ -88,11 +111,15 @@ def write_report(
         taken.add(name)
         names[i] = name
 
+    earlier = _linked_figures(out)
+    drawn: set[str] = set()
+
     def save(fig: Figure, name: str) -> str:
         write_bytes_atomic(out / name, _png(fig))
+        drawn.add(name)
         return name
 
-    md: list[str] = ["# MENTOR report", ""]
+    md: list[str] = [REPORT_TITLE, ""]
     if runs:
         md += ["## Runs", ""]
         rows = []
@@ -242,11 +269,16 @@ def write_report(
         md += [""]
     if not runs and not evals:
         md += ["Nothing to report: no finished run and no evaluation.", ""]
-    report = out / "report.md"
+    report = out / REPORT_FILE
     write_text_atomic(report, "\n".join(md))
+    for name in sorted(earlier - drawn):
+        (out / name).unlink(missing_ok=True)
     return report
 
 
 __all__ = [
+    "REPORT_FILE",
+    "REPORT_TITLE",
+    "is_report_dir",
     "write_report",
 ]

@@ -92,8 +92,10 @@ def assess(
     profile: RobotProfile,
     scenarios: Sequence[Scenario],
     time_limit: float = TEST_TIME_LIMIT,
+    numbers: Sequence[int] | None = None,
 ) -> Assessment:
-    """Run ``genome`` once on each scenario with a fixed time limit (s)."""
+    """Run ``genome`` once on each scenario with a fixed time limit (s); ``numbers`` are the
+    scenarios' numbers in their source (default 0, 1, ...), as the results report them."""
     check_compatible(genome, profile)
     network = FeedForwardNetwork.from_genome(genome)
 
@@ -102,9 +104,10 @@ def assess(
 
     budgets = np.full(len(scenarios), float(time_limit))
     batch = run_episodes(list(scenarios), profile, policy, time_budgets=budgets)
+    ids = list(range(len(scenarios))) if numbers is None else [int(n) for n in numbers]
     results = tuple(
         ScenarioResult(
-            scenario=i,
+            scenario=ids[i],
             reached=bool(batch.reached[i]),
             collided=bool(batch.collided[i]),
             timed_out=bool(batch.timed_out[i]),
