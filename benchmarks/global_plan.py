@@ -1,6 +1,10 @@
 """The plain planner against the planner with a global plan, on hand-made structured worlds.
 
     .venv/bin/python benchmarks/global_plan.py OUT_DIR [--genome G] [--robot ugv] [--pairs 8]
+    .venv/bin/python benchmarks/global_plan.py OUT_DIR --bench test --families rooms,traps,maze
+
+With ``--bench SPLIT`` the worlds and pairs are the generalisation benchmark's
+(``mentor_core.benchmark.suite``, ``--pairs`` per family) instead of the hand-made ones.
 
 Writes one world file per world into OUT_DIR (rooms with doorways, dead-end traps, a slalom
 of walls, a perfect maze of 2 m cells; 12 m for the UGV, the same layouts scaled to 4 m for
@@ -19,12 +23,14 @@ import argparse
 import contextlib
 import io
 import json
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
+from mentor_core.benchmark.suite import build_suite
 from mentor_core.cli.evaluate import main as mentor_eval
-from mentor_core.sim.robots import get_profile
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import sample_scenarios
 from mentor_core.sim.world import Scenario, World, save_world
 
@@ -108,24 +114,18 @@ def worlds(size: float) -> dict[str, World]:
     }
 
 
-def main() -> None:
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("out", type=Path)
-    p.add_argument("--robot", default="ugv", choices=("ugv", "swarm"))
-    p.add_argument(
-        "--genome", type=Path, help="default: bags/regression/<robot>_reference_genome.json"
-    )
-    p.add_argument("--pairs", type=int, default=8)
-    p.add_argument("--time-limit", type=float, default=50.0)
-    p.add_argument("--lookahead", type=float, help="m (default: mentor-eval's)")
-    args = p.parse_args()
-    profile = get_profile(args.robot)
-    genome = args.genome or ROOT / "bags" / "regression" / f"{args.robot}_reference_genome.json"
-    size = 12.0 if args.robot == "ugv" else 4.0
-    args.out.mkdir(parents=True, exist_ok=True)
-    totals = np.zeros((2, 3), dtype=int)
-    n_total = 0
-    print(f"{'world':<8} {'plain R/C/T':>12} {'global plan R/C/T':>18}")
+def _cases(
+    args: argparse.Namespace, profile: RobotProfile, size: float
+) -> Iterator[tuple[str, World, list[Scenario]]]:
+    """(name, world, pairs) of each world to run: the hand-made ones, or the benchmark's."""
+    if args.bench:
+        suite = build_suite(profile, args.bench, args.families.split(","), args.pairs)
+        by_world: dict[str, list[Scenario]] = {}
+        for pair in suite.pairs:
+            by_world.setdefault(pair.scenario.world.name, []).append(pair.scenario)
+        for name, pairs in by_world.items():
+            yield name, pairs[0].world, pairs
+        return
     for name, world in worlds(size).items():
         rng = np.random.default_rng(0)
         scale = size / 12.0
@@ -136,6 +136,30 @@ def main() -> None:
         pairs += sample_scenarios(
             world, profile, args.pairs - len(pairs), rng, min_distance=size / 3
         )
+        yield name, world, pairs
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("out", type=Path)
+    p.add_argument("--robot", default="ugv", choices=("ugv", "swarm"))
+    p.add_argument(
+        "--genome", type=Path, help="default: bags/regression/<robot>_reference_genome.json"
+    )
+    p.add_argument("--pairs", type=int, default=8)
+    p.add_argument("--time-limit", type=float, default=50.0)
+    p.add_argument("--lookahead", type=float, help="m (default: mentor-eval's)")
+    p.add_argument("--bench", choices=("validation", "test"), help="the benchmark's split")
+    p.add_argument("--families", default="rooms,traps,maze", help="with --bench")
+    args = p.parse_args()
+    profile = get_profile(args.robot)
+    genome = args.genome or ROOT / "bags" / "regression" / f"{args.robot}_reference_genome.json"
+    size = 12.0 if args.robot == "ugv" else 4.0
+    args.out.mkdir(parents=True, exist_ok=True)
+    totals = np.zeros((2, 3), dtype=int)
+    n_total = 0
+    print(f"{'world':<8} {'plain R/C/T':>12} {'global plan R/C/T':>18}")
+    for name, world, pairs in _cases(args, profile, size):
         path = args.out / f"{name}.yaml"
         save_world(path, world, pairs)
         result = args.out / f"{name}.json"
@@ -155,7 +179,7 @@ def main() -> None:
             totals[k] += outcome
             cells.append("/".join(str(int(v)) for v in outcome))
         n_total += len(pairs)
-        print(f"{name:<8} {cells[0]:>12} {cells[1]:>18}")
+        print(f"{name:<8} {cells[0]:>12} {cells[1]:>18}", flush=True)
     share = totals[:, 0] / n_total
     print(f"{'total':<8} {'/'.join(map(str, totals[0])):>12} {'/'.join(map(str, totals[1])):>18}")
     print(f"success: plain {share[0]:.0%}, global plan {share[1]:.0%} of {n_total} pairs")

@@ -26,8 +26,10 @@ for fw in single dual; do
   fi
 done
 echo "== evaluating both best genomes on the unseen environment bags/unseen/swarm" >&2
+# --force: the evaluation of an earlier demo in OUT is redone from its runs
 "$BIN/mentor-eval" "$OUT/swarm-single/best_genome.json" "$OUT/swarm-dual/best_genome.json" \
-  --bag "$ROOT/bags/unseen/swarm" --label single --label dual --out "$OUT/eval_unseen.json"
+  --bag "$ROOT/bags/unseen/swarm" --label single --label dual --out "$OUT/eval_unseen.json" \
+  --force
 echo "== writing the report" >&2
 "$BIN/mentor-report" "$OUT/swarm-single" "$OUT/swarm-dual" --eval "$OUT/eval_unseen.json" \
   --out "$OUT/report"

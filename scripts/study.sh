@@ -30,8 +30,9 @@ for robot in ugv swarm; do
   for fw in single dual; do for s in $SEEDS; do
     genomes+=("$OUT/$robot-$fw-s$s/best_genome.json"); labels+=(--label "$fw-s$s")
   done; done
+  # --force: an earlier study's evaluation in OUT is redone from its runs
   "$BIN/mentor-eval" "${genomes[@]}" "${labels[@]}" --bag "$ROOT/bags/unseen/$robot" \
-    --out "$OUT/eval_unseen_$robot.json" > "$OUT/eval_unseen_$robot.txt"
+    --out "$OUT/eval_unseen_$robot.json" --force > "$OUT/eval_unseen_$robot.txt"
   evals+=(--eval "$OUT/eval_unseen_$robot.json")
 done
 "$BIN/mentor-report" "$OUT"/*-s*/ "${evals[@]}" --out "$OUT/report"

@@ -1,8 +1,11 @@
-"""EvolutionConfig: paper values, YAML round trip, unknown keys and bad values rejected."""
+"""Configs: EvolutionConfig (paper values, YAML round trip, unknown keys and bad values
+rejected) and the trainer's config files (strict types, one line naming file and key, the
+JSON schema)."""
 
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
 
 import pytest
@@ -12,6 +15,7 @@ from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.evolution.config import EvolutionConfig
 from mentor_core.evolution.mutation import MutationConfig
 from mentor_core.evolution.species import SpeciationConfig
+from mentor_core.training.config import TrainerConfig, load_config_file
 
 CONFIG_DIR = Path(__file__).resolve().parents[1] / "mentor_core/src/mentor_core/configs"
 
@@ -163,7 +167,7 @@ def test_from_yaml_missing_file(tmp_path: Path) -> None:
 def test_from_yaml_bad_yaml(tmp_path: Path) -> None:
     path = tmp_path / "bad.yaml"
     path.write_text("population_size: [1, 2\n")
-    with pytest.raises(FileFormatError, match="invalid YAML"):
+    with pytest.raises(FileFormatError, match="not valid YAML at line 2"):
         EvolutionConfig.from_yaml(path)
 
 
@@ -175,7 +179,110 @@ def test_from_yaml_unknown_key_names_file(tmp_path: Path) -> None:
     assert info.value.path == str(path)
 
 
-def test_empty_yaml_is_defaults(tmp_path: Path) -> None:
+def test_empty_yaml_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "empty.yaml"
-    path.write_text("")
+    path.write_text("# all commented out\n")
+    with pytest.raises(FileFormatError, match=r"empty\.yaml: empty file"):
+        EvolutionConfig.from_yaml(path)
+    path.write_text("{}\n")  # an explicit empty mapping: every default
     assert EvolutionConfig.from_yaml(path) == EvolutionConfig()
+
+
+# ------------------------------------------------ the trainer's config files (issue 17, failure 7)
+
+TRAIN_CONFIGS = sorted(CONFIG_DIR.glob("train_*.yaml"))
+
+
+@pytest.mark.parametrize(
+    ("text", "key", "fault"),
+    [
+        ("generations: 12.5\n", "generations", "expected a whole number, got 12.5"),
+        ("generations: '12'\n", "generations", "expected a whole number, got '12'"),
+        ("generations: true\n", "generations", "expected a whole number, got True"),
+        ("n_scenarios: 10.7\n", "n_scenarios", "expected a whole number, got 10.7"),
+        ("stage2_seed_fraction: .nan\n", "stage2_seed_fraction", "expected a finite number"),
+        ("step_max: yes\n", "step_max", "expected a number, got True"),
+        ("framework: triple\n", "framework", "must be 'single' or 'dual', got 'triple'"),
+        ("evolution:\n  mutation:\n    weight_rate: 1.5\n", "evolution.mutation.weight_rate",
+         "must be <= 1.0, got 1.5"),
+        ("evolution:\n  speciation:\n    threshold_min: 4.0\n", "evolution.speciation.threshold",
+         "3.0 is below threshold_min 4.0"),
+        ("evolution:\n  populaton_size: 10\n", "evolution.populaton_size",
+         "unknown key (known: population_size, generations,"),
+        ("evolution:\n  population_size: 20\n  elitism: 0.5\n  global_fraction: 0.5\n",
+         "evolution.global_fraction", "elites (10) and global offspring (10) leave no room"),
+        ("doe:\n  crowded_count: [8]\n", "doe.crowded_count", "expected 2 values, got [8]"),
+        ("doe:\n  wall_count: [1.5, 2]\n", "doe.wall_count[0]", "expected a whole number"),
+        ("heading_change_max_deg: 1e3\n", "heading_change_max_deg", "must be <= 180.0"),
+        ("seed: -2\n", "seed", "must be >= 0, got -2"),
+        ("seed: 3.0\n", "seed", "expected a whole number, got 3.0"),
+        ("- 1\n- 2\n", None, "expected a mapping, got [1, 2]"),
+    ],
+)  # fmt: skip
+def test_trainer_config_faults_are_one_line_naming_file_and_key(
+    tmp_path: Path, text: str, key: str | None, fault: str
+) -> None:
+    path = tmp_path / "config.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as info:
+        load_config_file(path)
+    assert info.value.key == key and info.value.path == str(path)
+    where = f"{path}: {key}: " if key else f"{path}: "
+    assert str(info.value).startswith(where + fault), str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_trainer_config_types_are_strict_in_code_too() -> None:
+    with pytest.raises(ConfigError) as info:
+        TrainerConfig(generations=12.5)  # type: ignore[arg-type]
+    assert info.value.key == "generations" and "whole number" in str(info.value)
+    config = TrainerConfig(stage2_seed_fraction=1, step_max=1)
+    assert isinstance(config.stage2_seed_fraction, float) and config.step_max == 1.0
+
+
+def test_an_empty_trainer_config_file_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "config.yaml"
+    path.write_text("\n# robot: ugv\n")
+    with pytest.raises(FileFormatError, match=r"config\.yaml: empty file"):
+        load_config_file(path)
+    path.write_text("{}\n")  # an explicit empty mapping: the defaults
+    assert load_config_file(path) == (TrainerConfig.from_dict({}), None)
+
+
+def test_yaml_numbers_are_yaml_1_2(tmp_path: Path) -> None:
+    """1e-1 is a number (YAML 1.1, and PyYAML's default, read it as text)."""
+    path = tmp_path / "config.yaml"
+    path.write_text("stage2_seed_fraction: 25e-2\nevolution:\n  mutation:\n    weight_max: 1E1\n")
+    config, _ = load_config_file(path)
+    assert config.stage2_seed_fraction == 0.25 and config.evolution.mutation.weight_max == 10.0
+
+
+@pytest.mark.parametrize("path", TRAIN_CONFIGS, ids=lambda p: p.name)
+def test_shipped_trainer_configs_load_and_round_trip(path: Path, tmp_path: Path) -> None:
+    config = TrainerConfig.from_yaml(path)
+    again = tmp_path / "config.yaml"
+    again.write_text(yaml.safe_dump({"seed": 5, **config.to_dict()}))
+    assert load_config_file(again) == (config, 5)
+
+
+def test_print_schema_describes_every_key_and_checks_configs(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """``mentor-train --print-schema``: a JSON schema that accepts the shipped configs and a
+    run's config.yaml, and refuses what the validation refuses."""
+    jsonschema = pytest.importorskip("jsonschema")
+    from mentor_core.cli.train import main as train_main
+
+    assert train_main(["--print-schema"]) == 0
+    schema = json.loads(capsys.readouterr().out)
+    jsonschema.Draft202012Validator.check_schema(schema)
+    fields = {f.name for f in dataclasses.fields(TrainerConfig)}
+    assert set(schema["properties"]) == fields | {"seed"}
+    assert schema["properties"]["generations"]["description"].startswith("Total generations")
+    validator = jsonschema.Draft202012Validator(schema)
+    for path in TRAIN_CONFIGS:
+        validator.validate(yaml.safe_load(path.read_text()))
+    validator.validate({"seed": 3, **TrainerConfig().to_dict()})
+    for bad in ({"generations": 12.5}, {"generations": "12"}, {"generations": True},
+                {"bogus": 1}, {"evolution": {"mutation": {"weight_rate": 1.5}}}):  # fmt: skip
+        assert not validator.is_valid(bad), bad

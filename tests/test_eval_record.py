@@ -88,10 +88,12 @@ def test_mentor_eval_records_a_bag_and_never_overwrites_one(
     assert len(runs) == len(doc["runs"][0]["results"]) == 10
     assert "recorded 10 episodes" in capsys.readouterr().err
     before = sorted(p.stat().st_mtime_ns for p in bag.iterdir())
-    assert mentor_eval(args) == 2
+    assert mentor_eval(args[:-2]) == 2  # without --out: the bag alone is refused
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and str(bag) in err and "already exists" in err
     assert sorted(p.stat().st_mtime_ns for p in bag.iterdir()) == before
+    assert mentor_eval([*args, "--force"]) == 0  # replaced, all or nothing
+    assert len(recorded_episodes(read_episode_bag(bag), bag)) == 10
 
 
 def test_mentor_eval_refuses_an_unknown_encoding(

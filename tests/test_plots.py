@@ -103,10 +103,12 @@ def test_cli_draws_a_sampled_world(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "fault"),
     [
-        (["--robot", "ugv", "--world", "{tmp}/missing.yaml"], "{tmp}/missing.yaml: cannot read"),
+        (["--robot", "ugv", "--world", "{tmp}/missing.yaml"], "{tmp}/missing.yaml: no such file"),
         (["--robot", "tank"], "unknown robot 'tank'"),
         (["--robot", "swarm", "--scenario", "99"], "scenario 99 does not exist"),
         (["--robot", "ugv", "--walls", "2", "1"], "wall_count"),
+        # issue 17: more walls than fit are refused, not silently fewer
+        (["--robot", "ugv", "--walls", "50", "50"], "--walls 50 50: wall_count: only"),
     ],
 )
 def test_cli_bad_input_one_line_exit_2(

@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 from matplotlib.image import imread
 
 from mentor_core.cli.report import main as report_main
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.evolution.genome import ConnectionGene, Genome, NodeGene
 from mentor_core.evolution.genome_codec import genome_to_dict
 from mentor_core.files.genome_file import save_genome
@@ -366,3 +366,62 @@ def test_figures_are_figures() -> None:
     fig = pareto_front([[1.0, 2.0], [2.0, 1.0], [0.5, 0.5]], [0, 1])
     assert isinstance(fig, Figure)
     assert isinstance(topology(make_genome(np.random.default_rng(2))), Figure)
+
+
+def test_a_genome_trained_with_other_sensors_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/algorithm.md: mentor-report refuses a best genome whose sensor record differs
+    from the robot file's, as mentor-eval and the planner node do (issue 17)."""
+    from mentor_core.files.genome_file import load_genome_and_metadata
+    from mentor_core.sim.robots import get_profile, sensor_record
+
+    run = make_run(tmp_path / "runs", "ugv-single-s0", framework="single", generations=4, pop=6)
+    genome, meta = load_genome_and_metadata(run / "best_genome.json")
+    record = sensor_record(get_profile("ugv"))
+    save_genome(genome, run / "best_genome.json", {**meta, "sensors": record})
+    assert load_run(run).best_genome == genome  # the robot file's own sensors: accepted
+    record["sensor_range"] = 2.0
+    save_genome(genome, run / "best_genome.json", {**meta, "sensors": record})
+    with pytest.raises(ConfigError, match=r"best_genome\.json: sensors: .*other sensors"):
+        load_run(run)
+    out = tmp_path / "report"
+    assert report_main([str(run), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "best_genome.json" in err
+    assert not (out / "report.md").exists()
+
+
+def test_the_report_folder_is_checked_before_any_run_is_read(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """--out: never a run directory (nor inside one); a folder of other files only with
+    --force; an earlier report is replaced, its figures no longer drawn removed (issue 17)."""
+    import mentor_core.report.markdown as markdown
+
+    monkeypatch.setattr(markdown, "_png", lambda fig: PNG_MAGIC)  # figures: not the point
+    root = tmp_path / "runs"
+    a = make_run(root, "ugv-single-s0", framework="single", generations=4, pop=6)
+    b = make_run(root, "ugv-dual-s1", framework="dual", seed=1, generations=4, pop=6)
+    before = sorted(p.name for p in a.iterdir())
+    for out, force in ((a, ["--force"]), (a / "report", ["--force"]), (b / "x.png", [])):
+        assert report_main([str(a), str(b), "--out", str(out), *force]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and f"--out {out}" in err
+    assert sorted(p.name for p in a.iterdir()) == before
+    notes = tmp_path / "notes"
+    notes.mkdir()
+    (notes / "todo.txt").write_text("mine\n")
+    assert report_main([str(a), "--out", str(notes)]) == 2
+    assert "holds files but no earlier report; pass --force" in capsys.readouterr().err
+    assert report_main([str(a), "--out", str(notes), "--force"]) == 0
+    assert (notes / "report.md").is_file() and (notes / "todo.txt").read_text() == "mine\n"
+    # an earlier report is rewritten in place, without --force
+    out = tmp_path / "report"
+    assert report_main([str(a), str(b), "--out", str(out)]) == 0
+    assert any(p.name.startswith("ugv-dual-s1") for p in out.glob("*.png"))
+    (out / "mine.png").write_bytes(b"kept")  # not a figure of the report: left alone
+    assert report_main([str(a), "--out", str(out)]) == 0
+    assert not any(p.name.startswith("ugv-dual-s1") for p in out.glob("*.png"))
+    assert any(p.name.startswith("ugv-single-s0") for p in out.glob("*.png"))
+    assert (out / "mine.png").read_bytes() == b"kept"

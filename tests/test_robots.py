@@ -172,7 +172,8 @@ def test_bad_values_name_key_and_file(tmp_path: Path, change: str, key: str) -> 
 @pytest.mark.parametrize(
     ("text", "fault"),
     [
-        (None, "cannot read"),
+        (None, "no such file"),
+        ("", "empty file"),
         ("robots: [unclosed", "not valid YAML"),
         ("format: mentor-robots\nversion: 2\nrobots: {}\n", "version 2"),
         ("format: other\nversion: 1\nrobots: {}\n", "format"),
@@ -220,7 +221,7 @@ def test_mentor_robots_names_the_robot_file_in_use(
     ]
     assert get_profile("swarm") == load_profiles(shipped_profiles_path())["swarm"]
     monkeypatch.setenv(ROBOTS_ENV, str(tmp_path / "missing.yaml"))
-    with pytest.raises(FileFormatError, match=r"missing\.yaml: cannot read"):
+    with pytest.raises(FileFormatError, match=r"missing\.yaml: no such file"):
         get_profile("ugv")
     monkeypatch.delenv(ROBOTS_ENV)
     assert default_profiles_path() == shipped_profiles_path()

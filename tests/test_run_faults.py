@@ -272,7 +272,7 @@ def test_a_directory_of_something_else_is_refused(
     )
     stopped.write_text("[1, 2]")  # a checkpoint that is no checkpoint: one line too
     assert refused(argv(config, "dual", tmp_path / "full", "--resume"), capsys, lines=2) == (
-        f"mentor-train: {stopped}: not a mentor-train-checkpoint file"
+        f"mentor-train: {stopped}: expected a JSON object, got an array"
     )
 
 

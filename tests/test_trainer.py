@@ -224,7 +224,7 @@ def test_a_runs_config_yaml_trains_the_run_again(
     bad = tmp_path / "bad.yaml"
     bad.write_text((dual_run / "config.yaml").read_text().replace("seed: 3", "seed: three"))
     assert train_cli.main([*argv[:-2], str(bad), "--out", str(tmp_path / "bad")]) == 2
-    assert "bad.yaml: seed: must be a whole number" in capsys.readouterr().err
+    assert "bad.yaml: seed: expected a whole number" in capsys.readouterr().err
 
 
 def test_train_in_a_directory_the_caller_opened(dual_run: Path, tmp_path: Path) -> None:

@@ -6,13 +6,15 @@ Examples::
     mentor-draw --robot ugv --walls 1 2 --out world.png   # the shipped configs' training world
     mentor-draw --robot swarm --world my_world.yaml --out world.png
 
-The world comes from a world file (``--world``) or is the training DoE of ``--seed`` (the
-paper's, or with ``--walls MIN MAX`` long walls as the shipped training configs'
-``doe: {wall_count: [1, 2]}``). Rays
-are read with the reference physics (:class:`mentor_core.sim.pymunk_world.PymunkWorld`).
+The world comes from a world file (``--world``, which may name a ROS map) or is the training
+DoE of ``--seed`` (the paper's, or with ``--walls MIN MAX`` long walls as the shipped training
+configs' ``doe: {wall_count: [1, 2]}``). Rays are read with the reference physics
+(:class:`mentor_core.sim.pymunk_world.PymunkWorld`).
 ``--demo`` adds a naive straight-to-goal run (turn to the goal, step as far as allowed, stop
 at the goal radius, on a collision or when the time budget is spent). Bad input gives a
-one-line error naming the fault and exit code 2; the PNG is written atomically.
+one-line error naming the fault and exit code 2 (``--walls`` more than fit in the arena
+included); the PNG is written atomically, never over the world file, and over an existing file
+only with ``--force`` (checked before anything is drawn).
 """
 
 from __future__ import annotations
@@ -21,17 +23,20 @@ import argparse
 import math
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
-from mentor_core.errors import MentorError
+from mentor_core.cli.arguments import Parser, fail, index, seed
+from mentor_core.cli.outputs import check_file
+from mentor_core.errors import ConfigError, MentorError
 from mentor_core.navigation.map_world import load_world_file
 from mentor_core.report.plots import draw_world, new_figure, save_png
 from mentor_core.sim.collision import sample_counts
 from mentor_core.sim.kinematics import arc_samples, unicycle_arc, wrap_angle
 from mentor_core.sim.pymunk_world import PymunkWorld
-from mentor_core.sim.robots import load_profiles
+from mentor_core.sim.robots import RobotProfile, load_profiles
 from mentor_core.sim.scenarios import DoEConfig, training_scenarios
 from mentor_core.sim.world import Scenario
 
@@ -39,18 +44,19 @@ PROG = "mentor-draw"
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
+    parser = Parser(prog=PROG, description=__doc__.splitlines()[0])
     parser.add_argument("--robot", required=True, help="robot profile name (ugv, swarm)")
     source = parser.add_mutually_exclusive_group()
-    source.add_argument("--world", help="world file (YAML, format mentor-world)")
-    source.add_argument("--seed", type=int, default=0, help="seed of the training DoE (0)")
+    source.add_argument("--world", type=Path, help="world file (YAML, format mentor-world)")
+    source.add_argument("--seed", type=seed, default=0, help="seed of the training DoE (0)")
     parser.add_argument(
-        "--walls", type=int, nargs=2, metavar=("MIN", "MAX"), default=(0, 0),
+        "--walls", type=index, nargs=2, metavar=("MIN", "MAX"), default=(0, 0),
         help="long walls in the training DoE (default 0 0: the paper's; shipped configs: 1 2)",
     )  # fmt: skip
-    parser.add_argument("--scenario", type=int, help="scenario index to draw (default 0)")
+    parser.add_argument("--scenario", type=index, help="scenario index to draw (default 0)")
     parser.add_argument("--demo", action="store_true", help="add a straight-to-goal run")
-    parser.add_argument("--out", required=True, help="PNG file to write")
+    parser.add_argument("--out", type=Path, required=True, help="PNG file to write")
+    parser.add_argument("--force", action="store_true", help="replace an existing --out file")
     return parser
 
 
@@ -89,16 +95,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        check_file("--out", args.out, [] if args.world is None else [args.world], args.force)
         profiles = load_profiles()
         if args.robot not in profiles:
             raise ValueError(f"unknown robot {args.robot!r} (known: {', '.join(profiles)})")
         profile = profiles[args.robot]
         if args.world is not None:
             world, scenarios = load_world_file(args.world)
-            label = args.world
+            label = str(args.world)
         else:
-            doe = DoEConfig(wall_count=(args.walls[0], args.walls[1]))
-            scenarios = training_scenarios(profile, args.seed, cfg=doe)
+            scenarios = _training_scenarios(profile, args.seed, args.walls)
             world, label = scenarios[0].world, f"{profile.name} training DoE, seed {args.seed}"
         index = args.scenario if args.scenario is not None else (0 if scenarios else None)
         if index is not None and not 0 <= index < len(scenarios):
@@ -123,9 +129,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         ax.set_title(label, fontsize=9)
         save_png(fig, args.out)
     except (MentorError, ValueError, OSError) as err:
-        print(f"{PROG}: error: {err}", file=sys.stderr)
-        return 2
+        return fail(PROG, f"error: {err}")
     return 0
+
+
+def _training_scenarios(profile: RobotProfile, seed: int, walls: Sequence[int]) -> list[Scenario]:
+    """The training DoE of ``seed`` with ``walls`` (min, max) long walls; a fault of the
+    walls (more than fit in the arena) names ``--walls``."""
+    try:
+        return training_scenarios(profile, seed, cfg=DoEConfig(wall_count=(walls[0], walls[1])))
+    except ConfigError as err:
+        if err.key != "wall_count":
+            raise
+        raise MentorError(f"--walls {walls[0]} {walls[1]}: {err}") from None
 
 
 if __name__ == "__main__":

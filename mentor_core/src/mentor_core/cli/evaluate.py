@@ -15,6 +15,11 @@ ROS map (``map_server`` YAML + PGM; ``--n`` start/goal pairs sampled with ``--se
 default). ``--global-plan`` runs every genome a second time, labelled ``<label> +global-plan``,
 its network steered towards a point ``--lookahead`` m along a shortest path planned on the
 world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run beside it.
+
+A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
+warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
+the others keep their numbers. ``--out`` and ``--record`` never replace an input, nor an
+existing file or bag unless ``--force`` is given; both are checked before anything runs.
 """
 
 from __future__ import annotations
@@ -28,6 +33,8 @@ from typing import Any
 import numpy as np
 
 from mentor_core.atomic import write_json_atomic
+from mentor_core.cli.arguments import Parser, count, duration, fail, seed
+from mentor_core.cli.outputs import check_bag, check_distinct, check_file
 from mentor_core.errors import FileFormatError, MentorError
 from mentor_core.files.bags import read_scenario_bag
 from mentor_core.files.genome_file import load_genome_and_metadata
@@ -39,7 +46,7 @@ from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.robots import RobotProfile, get_profile
-from mentor_core.sim.scenarios import sample_scenarios, sample_world
+from mentor_core.sim.scenarios import sample_scenarios, sample_world, start_overlap
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.assessment import TEST_TIME_LIMIT, Assessment, assess
 
@@ -104,8 +111,10 @@ def eval_document(
     source: str,
     time_limit: float,
     runs: list[tuple[str, str, Assessment]],
+    skipped: dict[int, str] | None = None,
 ) -> dict[str, Any]:
-    """The JSON document of an evaluation (format ``mentor-eval``, version 1)."""
+    """The JSON document of an evaluation (format ``mentor-eval``, version 1); ``skipped``:
+    the scenarios not run, with the reason (results name the others by number)."""
     return {
         "format": EVAL_FORMAT,
         "version": EVAL_VERSION,
@@ -113,6 +122,7 @@ def eval_document(
         "source": source,
         "world": {"size": world.size, "obstacles": world.obstacles.tolist()},
         "scenarios": [{"start": list(s.start), "goal": list(s.goal)} for s in scenarios],
+        "skipped": [{"scenario": i, "reason": why} for i, why in sorted((skipped or {}).items())],
         "goal_radius": profile.goal_radius,
         "time_limit": time_limit,
         "runs": [
@@ -146,20 +156,23 @@ def record(
     time_limit: float,
     runs: list[tuple[str, str, Assessment]],
     planners: list[Decide],
+    numbers: list[int],
+    force: bool = False,
 ) -> None:
     """Write the episodes of every genome as an episode bag (``--record``).
 
     The bag holds what the ROS simulator would publish: each genome's planner (``planners[i]``
     for ``runs[i]``) runs in the reference (pymunk) simulator, ``robot_<i>`` for genome ``i``.
     An outcome that differs from the batched evaluation (float32 scans can tip a borderline
-    episode) is reported on stderr.
+    episode) is reported on stderr. ``numbers``: the scenarios' numbers in their source;
+    ``force``: replace an existing bag at ``path``.
     """
-    if path.exists():
-        raise FileFormatError(path, "already exists; the recording is not overwritten")
     decide = dict(zip((f"robot_{i}" for i in range(len(planners))), planners, strict=True))
-    recorder, traces = record_planners(world, profile, decide, scenarios, time_limit)
+    recorder, traces = record_planners(world, profile, decide, scenarios, time_limit, numbers)
     labels = {f"robot_{i}": label for i, (label, _, _) in enumerate(runs)}
-    recorder.save(path, profile, {"genomes": labels, "time_limit": time_limit})
+    recorder.save(
+        path, profile, {"genomes": labels, "time_limit": time_limit}, overwrite=force
+    )
     for i, (label, _, assessment) in enumerate(runs):
         for result, trace in zip(assessment.results, traces[f"robot_{i}"], strict=True):
             if result.outcome != trace.outcome:
@@ -183,7 +196,7 @@ def _decide(plain: GenomePlanner, guide: GuideConfig, world: World, guided: bool
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of mentor-eval."""
-    p = argparse.ArgumentParser(prog="mentor-eval", description=__doc__.split("\n")[0])
+    p = Parser(prog="mentor-eval", description=__doc__.split("\n")[0])
     p.add_argument("genomes", nargs="+", type=Path, help="genome JSON files")
     src = p.add_mutually_exclusive_group()
     src.add_argument("--bag", type=Path, help="scenario bag (e.g. bags/unseen/ugv)")
@@ -191,10 +204,12 @@ def build_parser() -> argparse.ArgumentParser:
     src.add_argument(
         "--map", type=Path, help="ROS map YAML (+ PGM); --n pairs sampled on it with --seed"
     )
-    p.add_argument("--seed", type=int, help="sample a fresh test world (or a map's pairs)")
+    p.add_argument(
+        "--seed", type=seed, help="sample a fresh test world (or a map's pairs), seed >= 0"
+    )
     p.add_argument("--robot", choices=("ugv", "swarm"), help="robot profile")
-    p.add_argument("--n", type=int, default=10, help="start/goal pairs with --seed (10)")
-    p.add_argument("--time-limit", type=float, default=TEST_TIME_LIMIT, help="s (50)")
+    p.add_argument("--n", type=count, default=10, help="start/goal pairs with --seed (10)")
+    p.add_argument("--time-limit", type=duration, default=TEST_TIME_LIMIT, help="s (50)")
     p.add_argument("--out", type=Path, help="write the results as JSON here")
     p.add_argument("--label", action="append", help="a label per genome (default: file path)")
     p.add_argument(
@@ -213,33 +228,71 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         help="m along the global path the network steers to (default: 2 goal radii)",
     )
+    p.add_argument(
+        "--force", action="store_true", help="replace an existing --out file or --record bag"
+    )
     return p
 
 
+def check_outputs(args: argparse.Namespace) -> None:
+    """Refuse ``--out`` and ``--record`` paths that would replace an input, or an existing
+    file or bag without ``--force`` (before any work)."""
+    sources = (args.world, args.bag, args.map)
+    inputs = [*args.genomes, *(p for p in sources if p is not None)]
+    check_distinct({"--out": args.out, "--record": args.record})
+    if args.out is not None:
+        check_file("--out", args.out, inputs, args.force)
+    if args.record is not None:
+        check_bag("--record", args.record, inputs, args.force)
+
+
+def runnable(
+    profile: RobotProfile, world: World, scenarios: list[Scenario], source: str
+) -> tuple[list[int], dict[int, str]]:
+    """The numbers of the scenarios the robot can start, and the others with the reason (one
+    warning line each on stderr)."""
+    keep: list[int] = []
+    skipped: dict[int, str] = {}
+    for i, sc in enumerate(scenarios):
+        fault = start_overlap(world, sc.start, profile)
+        if fault:
+            skipped[i] = fault
+            print(f"mentor-eval: warning: {source}: scenario {i} skipped: {fault}",
+                  file=sys.stderr)  # fmt: skip
+        else:
+            keep.append(i)
+    if not keep:
+        raise FileFormatError(source, f"no scenario can start robot {profile.name!r}")
+    return keep, skipped
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit status."""
+    """Entry point; returns the exit status (2 on bad arguments or input)."""
     args = build_parser().parse_args(argv)
     labels = args.label or [str(g) for g in args.genomes]
     if len(labels) != len(args.genomes):
-        print("mentor-eval: give one --label per genome", file=sys.stderr)
-        return 2
+        return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
-        print("mentor-eval: --lookahead must be a positive number of metres", file=sys.stderr)
-        return 2
+        return fail("mentor-eval", "--lookahead must be a positive number of metres")
     try:
+        check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
+        numbers, skipped = runnable(profile, world, scenarios, source)
+        chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
         planners: list[Decide] = []
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
             guide = guide_config(planner, lookahead=args.lookahead)
-            goals = [sc.goal for sc in scenarios]
+            goals = [sc.goal for sc in chosen]
             for guided in (False, True) if args.global_plan else (False,):
                 guides = world_guides(world, guide, len(goals)) if guided else None
                 aims = None if guides is None else guided_goals(guides, goals)
                 try:
-                    assessment = assess(genome, planner, scenarios, args.time_limit, aims)
+                    assessment = assess(
+                        genome, planner, chosen, args.time_limit, aims, numbers
+                    )
                 except ValueError as err:
                     raise FileFormatError(path, str(err)) from None
                 run_label = f"{label} +global-plan" if guided else label
@@ -249,14 +302,16 @@ def main(argv: list[str] | None = None) -> int:
                     plain = GenomePlanner(genome, planner, str(path))
                     planners.append(_decide(plain, guide, world, guided))
         if args.record is not None:
-            record(args.record, profile, world, scenarios, args.time_limit, runs, planners)
+            record(args.record, profile, world, chosen, args.time_limit, runs, planners,
+                   numbers, args.force)  # fmt: skip
         if args.out is not None:
-            doc = eval_document(profile, world, scenarios, source, args.time_limit, runs)
+            doc = eval_document(
+                profile, world, scenarios, source, args.time_limit, runs, skipped
+            )
             write_json_atomic(args.out, doc)
             print(f"mentor-eval: wrote {args.out}", file=sys.stderr)
     except (MentorError, OSError) as err:
-        print(f"mentor-eval: {err}", file=sys.stderr)
-        return 2
+        return fail("mentor-eval", err)
     return 0
 
 

@@ -8,23 +8,27 @@
 ``--config`` takes a YAML file or the name of a shipped config (``quick``, ``paper``). A run
 directory's ``config.yaml`` is such a file, with the run's seed: ``mentor-train --robot R
 --framework F --config runs/x/config.yaml --out runs/y`` trains run x again (``--seed``
-overrides the seed).
+overrides the seed). ``mentor-train --print-schema`` prints the JSON schema of a config file
+(for editors and CI checks). Progress: a live bar on a terminal, one line per generation in a
+log (stderr not a terminal).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
 import sys
 from importlib import resources
 from pathlib import Path
-from typing import TextIO
 
+from mentor_core.cli.arguments import Parser, fail, seed
 from mentor_core.cli.stopping import EXIT_SIGTERM, Terminated, sigterm_raises
 from mentor_core.errors import MentorError
-from mentor_core.training.config import TrainerConfig, load_config_file
+from mentor_core.training.config import TrainerConfig, config_schema, load_config_file
 from mentor_core.training.evaluators import make_evaluator
+from mentor_core.training.progress import GenerationProgress
 from mentor_core.training.run_directory import open_run
-from mentor_core.training.run_files import GenerationRecord
 from mentor_core.training.trainer import make_problem, train
 
 SHIPPED = ("quick", "paper")
@@ -53,38 +57,16 @@ def resolve_run(
     return TrainerConfig.from_dict(data, source=name), seed
 
 
-class ProgressPrinter:
-    """One line per generation with a progress bar (a reporter on the trainer's events)."""
-
-    def __init__(self, total: int, stream: TextIO = sys.stderr, width: int = 20) -> None:
-        self.total = total
-        self.stream = stream
-        self.width = width
-
-    def __call__(self, rec: GenerationRecord) -> None:
-        done = rec.generation + 1
-        filled = round(self.width * done / self.total)
-        bar = "#" * filled + "." * (self.width - filled)
-        print(
-            f"[{bar}] gen {done:>3}/{self.total} {rec.mode:<6} evals {rec.evaluations:>6} | "
-            f"F best {rec.best_F:8.3f} mean {rec.mean_F:8.3f} | G best {rec.best_G:9.3f} | "
-            f"species {rec.species:>2} largest {rec.largest_niche_share:4.0%} | "
-            f"{rec.seconds:5.1f} s",
-            file=self.stream,
-            flush=True,
-        )
-
-
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of mentor-train."""
-    p = argparse.ArgumentParser(prog="mentor-train", description=__doc__.split("\n")[0])
-    p.add_argument("--robot", choices=("ugv", "swarm"), required=True)
-    p.add_argument("--framework", choices=("single", "dual"), required=True)
+    p = Parser(prog="mentor-train", description=__doc__.split("\n")[0])
+    p.add_argument("--robot", choices=("ugv", "swarm"), help="robot profile (required)")
+    p.add_argument("--framework", choices=("single", "dual"), help="(required)")
     p.add_argument("--config", help="YAML file or shipped name: quick | paper (default paper)")
-    p.add_argument("--seed", type=int, default=None,
-                   help="evolution seed (default: the config file's seed, as in a run's "
+    p.add_argument("--seed", type=seed, default=None,
+                   help="evolution seed, >= 0 (default: the config file's seed, as in a run's "
                         "config.yaml, else 0)")
-    p.add_argument("--out", required=True, type=Path, help="run directory")
+    p.add_argument("--out", type=Path, help="run directory (required)")
     p.add_argument("--resume", action="store_true",
                    help="continue the run in --out (stopped anywhere: ends as an unbroken run; "
                         "docs/runs.md)")
@@ -94,13 +76,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ray", metavar="ADDRESS",
                    help="evaluate on Ray: 'local' (a private Ray on this machine), 'auto' (join "
                         "the running cluster, as Ray finds it) or HOST:PORT (join that cluster)")
-    p.add_argument("--quiet", action="store_true", help="no per-generation lines")
+    p.add_argument("--quiet", action="store_true", help="no progress bar or lines")
+    p.add_argument("--print-schema", action="store_true",
+                   help="print the JSON schema of a config file on stdout and exit")
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.print_schema:
+        print(json.dumps(config_schema(), indent=2))
+        return 0
+    missing = [f"--{k}" for k in ("robot", "framework", "out") if getattr(args, k) is None]
+    if missing:
+        parser.error(f"the following arguments are required: {', '.join(missing)}")
     with sigterm_raises():
         return _run(args)
 
@@ -120,7 +111,6 @@ def _run(args: argparse.Namespace) -> int:
         if args.seed is None:
             args.seed = 0 if saved_seed is None else saved_seed
         problem = make_problem(config, source=args.config or "paper")
-        callbacks = [] if args.quiet else [ProgressPrinter(config.generations)]
         # the run directory first: a second writer is refused before any worker starts
         with open_run(args.out, resume=args.resume) as run_dir:
             print(
@@ -130,16 +120,20 @@ def _run(args: argparse.Namespace) -> int:
                 f"{args.out}",
                 file=sys.stderr,
             )
-            with make_evaluator(problem, args.workers, args.ray) as evaluator:
+            with (
+                make_evaluator(problem, args.workers, args.ray) as evaluator,
+                contextlib.ExitStack() as stack,
+            ):
                 if args.ray:
                     print(f"mentor-train: evaluating on {evaluator.describe()}", file=sys.stderr)
+                progress = GenerationProgress(config.generations)
                 result = train(
                     config,
                     run_dir,
                     seed=args.seed,
                     evaluator=evaluator,
                     resume=args.resume,
-                    callbacks=callbacks,
+                    callbacks=[] if args.quiet else [stack.enter_context(progress)],
                 )
     except KeyboardInterrupt as stop:
         how = "terminated (SIGTERM)" if isinstance(stop, Terminated) else "interrupted"
@@ -147,8 +141,7 @@ def _run(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return EXIT_SIGTERM if isinstance(stop, Terminated) else 130
     except (MentorError, OSError) as err:
-        print(f"mentor-train: {err}", file=sys.stderr)
-        return 2
+        return fail("mentor-train", err)
     if result.rebuilt:
         names = ", ".join(p.name for p in result.rebuilt)
         print(f"mentor-train: wrote the finished run's {names} again", file=sys.stderr)

@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from mentor_core.cli.arguments import Parser, seed
 from mentor_core.errors import MentorError
 from mentor_core.evolution.config import EvolutionConfig
 from mentor_core.evolution.genome import Genome
@@ -156,11 +157,13 @@ def summarize(results: Sequence[XorRun]) -> dict[str, Any]:
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="mentor-xor", description="XOR benchmark of MENTOR (NEAT's classic test)."
     )
     parser.add_argument("--runs", type=int, default=100, help="number of runs (default 100)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of run 0 (run i: seed + i)")
+    parser.add_argument(
+        "--seed", type=seed, default=0, help="seed of run 0, >= 0 (run i: seed + i)"
+    )
     parser.add_argument(
         "--workers", type=int, default=1, help="worker processes (same result as serial)"
     )

@@ -27,11 +27,11 @@ aim, variation proportional to the network's size, for all three operators.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field
 
-from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import (
     ConnectionGene,
     Genome,
@@ -41,12 +41,15 @@ from mentor_core.evolution.genome import (
     topological_order,
 )
 from mentor_core.evolution.innovation import InnovationTracker
+from mentor_core.validation import Float, Int, config_dataclass
 
-_RATE_FIELDS = ("weight_rate", "weight_replace_rate", "node_rate", "edge_rate")
-_POSITIVE_FIELDS = ("weight_perturb_sigma", "weight_init_sigma", "weight_max")
+#: a probability
+Rate = Annotated[Float, Field(ge=0.0, le=1.0)]
+#: a positive finite number
+Positive = Annotated[Float, Field(gt=0.0)]
 
 
-@dataclass(frozen=True)
+@config_dataclass
 class MutationConfig:
     """Mutation probabilities and weight parameters (defaults: the paper's UGV case).
 
@@ -56,33 +59,14 @@ class MutationConfig:
     XOR have no complexity pressure): an evaluation cost that doubles every few generations.
     """
 
-    weight_rate: float = 0.25
-    weight_perturb_sigma: float = 0.5
-    weight_replace_rate: float = 0.1
-    weight_init_sigma: float = 1.0
-    weight_max: float = 8.0
-    node_rate: float = 0.05
-    edge_rate: float = 0.03
-    max_hidden: int | None = None
-
-    def __post_init__(self) -> None:
-        cap = self.max_hidden
-        if cap is not None and (isinstance(cap, bool) or not isinstance(cap, int) or cap < 0):
-            raise ConfigError(f"must be None or an int >= 0, got {cap!r}", key="max_hidden")
-        for f in fields(self):
-            if f.name == "max_hidden":
-                continue
-            value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                raise ConfigError(f"must be a number, got {value!r}", key=f.name)
-        for name in _RATE_FIELDS:
-            value = getattr(self, name)
-            if not 0.0 <= value <= 1.0:
-                raise ConfigError(f"must be in [0, 1], got {value!r}", key=name)
-        for name in _POSITIVE_FIELDS:
-            value = getattr(self, name)
-            if not (value > 0.0 and np.isfinite(value)):
-                raise ConfigError(f"must be finite and > 0, got {value!r}", key=name)
+    weight_rate: Rate = 0.25
+    weight_perturb_sigma: Positive = 0.5
+    weight_replace_rate: Rate = 0.1
+    weight_init_sigma: Positive = 1.0
+    weight_max: Positive = 8.0
+    node_rate: Rate = 0.05
+    edge_rate: Rate = 0.03
+    max_hidden: Annotated[Int, Field(ge=0)] | None = None
 
 
 def mutate(

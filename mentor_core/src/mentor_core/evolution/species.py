@@ -12,18 +12,23 @@ a third".
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, fields
+from typing import Annotated, Literal, get_args
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import Field, model_validator
 
-from mentor_core.errors import ConfigError, is_number
+from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import Genome
+from mentor_core.validation import Float, Int, config_dataclass, fault
 
-ASSIGNMENTS = ("nearest", "first")
+Assignment = Literal["nearest", "first"]
+ASSIGNMENTS: tuple[str, ...] = get_args(Assignment)
+_Coefficient = Annotated[Float, Field(ge=0.0)]
+_Threshold = Annotated[Float, Field(gt=0.0)]
 
 
-@dataclass(frozen=True)
+@config_dataclass
 class SpeciationConfig:
     """Distance coefficients (paper: [c1, c2, c3] = [1, 1, 0.4]) and threshold control.
 
@@ -33,42 +38,22 @@ class SpeciationConfig:
     (module docstring): ``"nearest"`` or ``"first"``.
     """
 
-    c1: float = 1.0
-    c2: float = 1.0
-    c3: float = 0.4
-    threshold: float = 3.0
-    target_species: int | None = None
-    threshold_step: float = 0.3
-    threshold_min: float = 0.3
-    assignment: str = "nearest"
+    c1: _Coefficient = 1.0
+    c2: _Coefficient = 1.0
+    c3: _Coefficient = 0.4
+    threshold: _Threshold = 3.0
+    target_species: Annotated[Int, Field(ge=1)] | None = None
+    threshold_step: _Coefficient = 0.3
+    threshold_min: _Threshold = 0.3
+    assignment: Assignment = "nearest"
 
-    def __post_init__(self) -> None:
-        if self.assignment not in ASSIGNMENTS:
-            raise ConfigError(
-                f"must be one of {', '.join(ASSIGNMENTS)}, got {self.assignment!r}",
-                key="assignment",
-            )
-        for f in fields(self):
-            if f.name == "assignment":
-                continue
-            value = getattr(self, f.name)
-            if f.name == "target_species":
-                if value is not None and (
-                    isinstance(value, bool) or not isinstance(value, int) or value < 1
-                ):
-                    raise ConfigError(f"must be None or an int >= 1, got {value!r}", key=f.name)
-                continue
-            if not is_number(value):
-                raise ConfigError(f"must be a number, got {value!r}", key=f.name)
-            if not (np.isfinite(value) and value >= 0.0):
-                raise ConfigError(f"must be finite and >= 0, got {value!r}", key=f.name)
-        for name in ("threshold", "threshold_min"):
-            if getattr(self, name) <= 0.0:
-                raise ConfigError(f"must be > 0, got {getattr(self, name)!r}", key=name)
+    @model_validator(mode="after")
+    def _threshold_above_its_floor(self) -> SpeciationConfig:
         if self.threshold < self.threshold_min:
-            raise ConfigError(
-                f"{self.threshold} is below threshold_min {self.threshold_min}", key="threshold"
+            raise fault(
+                "threshold", f"{self.threshold} is below threshold_min {self.threshold_min}"
             )
+        return self
 
 
 def distance(a: Genome, b: Genome, c1: float = 1.0, c2: float = 1.0, c3: float = 0.4) -> float:

@@ -28,6 +28,10 @@ from mentor_core.report.runs import EvalRun, RunData, is_finished, load_eval, lo
 from mentor_core.report.tables import _fmt, _md_table, _pct, _spread, genome_tables, run_numbers
 
 FRAMEWORKS = ("single", "dual")
+#: the first line of every report.md: how a folder is known to hold an earlier report
+REPORT_TITLE = "# MENTOR report"
+REPORT_FILE = "report.md"
+_FIGURE_LINK = re.compile(r"\]\(([^)/\\]+\.png)\)")
 
 
 def _slug(text: str) -> str:
@@ -53,6 +57,24 @@ def _eval_group(run: EvalRun, runs: Sequence[RunData], base: Path) -> tuple[str,
     return _framework_of(run.label) or run.label, "-"
 
 
+def is_report_dir(path: str | Path) -> bool:
+    """Whether ``path`` is a folder holding a report of :func:`write_report` (its report.md
+    starts with :data:`REPORT_TITLE`)."""
+    report = Path(path) / REPORT_FILE
+    try:
+        with report.open(encoding="utf-8") as handle:
+            return handle.readline().rstrip("\n") == REPORT_TITLE
+    except (OSError, UnicodeDecodeError):
+        return False
+
+
+def _linked_figures(out: Path) -> set[str]:
+    """The figures (PNG file names) an earlier report in ``out`` links to."""
+    if not is_report_dir(out):
+        return set()
+    return set(_FIGURE_LINK.findall((out / REPORT_FILE).read_text(encoding="utf-8")))
+
+
 def write_report(
     run_dirs: Sequence[str | Path],
     eval_jsons: Sequence[str | Path] = (),
@@ -65,8 +87,9 @@ def write_report(
     results (``mentor-bench`` JSON, ``bench_jsons``) into ``out_dir``.
 
     Unfinished runs (no ``population.json``) are skipped with a warning line on ``log``
-    (stderr by default); a missing or corrupt file raises FileFormatError naming it. Returns
-    the path of ``report.md``.
+    (stderr by default); a missing or corrupt file raises FileFormatError naming it. An
+    earlier report in ``out_dir`` is replaced: its figures that this report does not draw are
+    removed, other files are left alone. Returns the path of ``report.md``.
     """
     stream = log if log is not None else sys.stderr
     out = Path(out_dir)
@@ -93,11 +116,15 @@ def write_report(
         taken.add(name)
         names[i] = name
 
+    earlier = _linked_figures(out)
+    drawn: set[str] = set()
+
     def save(fig: Figure, name: str) -> str:
         write_bytes_atomic(out / name, _png(fig))
+        drawn.add(name)
         return name
 
-    md: list[str] = ["# MENTOR report", ""]
+    md: list[str] = [REPORT_TITLE, ""]
     if runs:
         md += ["## Runs", ""]
         rows = []
@@ -242,18 +269,25 @@ def write_report(
                 md += [f"![trajectories {run.label}]({name})", ""]
 
     for k, (path, doc) in enumerate(benches):
-        md += bench_markdown(doc, out, prefix=f"bench{k}-{_slug(path.stem)}")
+        lines = bench_markdown(doc, out, prefix=f"bench{k}-{_slug(path.stem)}")
+        drawn.update(_FIGURE_LINK.findall("\n".join(lines)))  # its figures are this report's
+        md += lines
     if skipped:
         md += ["## Skipped", ""]
         md += [f"- `{p}`: unfinished run (no population.json)" for p in skipped]
         md += [""]
     if not runs and not evals and not benches:
         md += ["Nothing to report: no finished run, no evaluation and no benchmark.", ""]
-    report = out / "report.md"
+    report = out / REPORT_FILE
     write_text_atomic(report, "\n".join(md))
+    for name in sorted(earlier - drawn):
+        (out / name).unlink(missing_ok=True)
     return report
 
 
 __all__ = [
+    "REPORT_FILE",
+    "REPORT_TITLE",
+    "is_report_dir",
     "write_report",
 ]

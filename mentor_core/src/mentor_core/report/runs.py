@@ -22,6 +22,8 @@ import yaml
 from mentor_core.errors import FileFormatError, is_version, one_line
 from mentor_core.evolution.genome import Genome
 from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.runtime.planner import planner_profile
+from mentor_core.sim.robots import get_profile
 from mentor_core.training.run_files import HISTORY_FIELDS, GenerationRecord, RunPaths
 
 
@@ -171,7 +173,9 @@ def is_finished(run_dir: str | Path) -> bool:
 
 
 def load_run(run_dir: str | Path) -> RunData:
-    """Read and validate a finished run directory (FileFormatError naming file and fault)."""
+    """Read and validate a finished run directory (FileFormatError naming file and fault;
+    ConfigError naming the best genome when it was trained with other sensors, or planner
+    settings, than the robot file in use allows)."""
     paths = RunPaths(Path(run_dir))
     if not paths.root.is_dir():
         raise FileFormatError(paths.root, "no such run directory")
@@ -203,6 +207,9 @@ def load_run(run_dir: str | Path) -> RunData:
         raise FileFormatError(paths.pareto, "front index out of range")
 
     genome, genome_meta = load_genome_and_metadata(paths.best_genome)
+    # a genome trained with other sensors than the robot file's now is refused (ConfigError
+    # naming the file), as mentor-eval and the planner node refuse it
+    planner_profile(get_profile(str(config["robot"])), genome_meta, paths.best_genome)
     return RunData(
         path=paths.root,
         robot=str(config["robot"]),

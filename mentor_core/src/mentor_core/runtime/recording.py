@@ -274,20 +274,23 @@ def record_planners(
     planners: Mapping[str, Decide],
     scenarios: Sequence[Scenario],
     time_limit: float | None = None,
+    numbers: Sequence[int] | None = None,
 ) -> tuple[EpisodeRecorder, dict[str, list[RobotTrace]]]:
     """Run each planner alone on each scenario in the reference simulator and record it.
 
     ``planners`` maps a robot namespace to its decision function; episodes run planner by
     planner, scenario by scenario, one control period apart. ``time_limit`` (s) replaces the
-    profile's time budget when given. Returns the recorder (save it with
+    profile's time budget when given; ``numbers`` are the scenarios' numbers in their source
+    (default 0, 1, ...), as the bag records them. Returns the recorder (save it with
     :meth:`EpisodeRecorder.save`) and each planner's traces in scenario order.
     """
     recorder = EpisodeRecorder(world, profile.control_period, list(planners))
     dt_ns = round(profile.control_period * 1e9)
     traces: dict[str, list[RobotTrace]] = {ns: [] for ns in planners}
+    ids = list(range(len(scenarios))) if numbers is None else [int(n) for n in numbers]
     stamp = 0
     for ns, decide in planners.items():
-        for k, scenario in enumerate(scenarios):
+        for k, scenario in zip(ids, scenarios, strict=True):
             setup = RobotSetup(ns, profile, scenario.start, scenario.goal, k, time_limit)
             ran = run_reference_episode(world, [setup], {ns: decide})
             if ns not in ran:

@@ -50,6 +50,7 @@ from mentor_core.runtime.wiring import wire_pose as wire_pose
 from mentor_core.runtime.wiring import wire_ranges as wire_ranges
 from mentor_core.sim.pymunk_world import PymunkWorld
 from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.scenarios import start_overlap
 from mentor_core.sim.world import World
 
 FloatArray = NDArray[np.float64]
@@ -362,12 +363,26 @@ class ReferenceSimulator:
 
 
 def start_fault(world: World, setup: RobotSetup) -> str:
-    """Why ``setup`` cannot start in ``world`` alone (its body overlaps an obstacle or a wall,
-    a value is not finite), or '' when it can. Used to screen scenarios before a run."""
-    return _start_fault(PymunkWorld(world, setup.profile), setup)
+    """Why ``setup`` cannot start in ``world`` alone (a value is not finite, or its body
+    overlaps an obstacle or a wall: :func:`mentor_core.sim.scenarios.start_overlap`, the
+    screen mentor-eval applies too), or '' when it can. Used to screen scenarios before a
+    run."""
+    return _value_fault(setup) or start_overlap(world, setup.start, setup.profile)
 
 
 def _start_fault(physics: PymunkWorld, s: RobotSetup) -> str:
+    fault = _value_fault(s)
+    # a free probe of the robot's own body: it sees obstacles, walls and every placed robot
+    if not fault and physics.collides(s.start, profile=s.profile):
+        x, y, th = (float(v) for v in s.start)
+        fault = (
+            f"its body at the start ({x:.3f}, {y:.3f}, {th:.3f}) overlaps an obstacle, "
+            "a wall or a robot"
+        )
+    return fault
+
+
+def _value_fault(s: RobotSetup) -> str:
     start = np.asarray(s.start, dtype=np.float64)
     goal = np.asarray(s.goal, dtype=np.float64)
     if start.shape != (3,) or goal.shape != (2,):
@@ -376,13 +391,6 @@ def _start_fault(physics: PymunkWorld, s: RobotSetup) -> str:
         return f"start {tuple(s.start)} or goal {tuple(s.goal)} is not finite"
     if s.time_budget is not None and not (math.isfinite(s.time_budget) and s.time_budget >= 0.0):
         return f"time budget {s.time_budget} s is not finite and >= 0"
-    # a free probe of the robot's own body: it sees obstacles, walls and every placed robot
-    if physics.collides(s.start, profile=s.profile):
-        x, y, th = (float(v) for v in start)
-        return (
-            f"its body at the start ({x:.3f}, {y:.3f}, {th:.3f}) overlaps an obstacle, "
-            "a wall or a robot"
-        )
     return ""
 
 

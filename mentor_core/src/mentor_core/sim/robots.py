@@ -22,24 +22,26 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
-import yaml
 from numpy.typing import ArrayLike, NDArray
+from pydantic import Field, model_validator
 
 from mentor_core.errors import ConfigError, FileFormatError, is_number, is_version
+from mentor_core.validation import Float, Int, Str, config_dataclass, fault, read_yaml, validate
 
 #: environment variable that names a robot file to use instead of the shipped one
 ROBOTS_ENV = "MENTOR_ROBOTS"
 PROFILES_FORMAT = "mentor-robots"
 PROFILES_VERSION = 1
 #: the network input encodings of ``mentor_core.sim.observation``
-INPUT_ENCODINGS = ("paper", "egocentric")
+InputEncoding = Literal["paper", "egocentric"]
+INPUT_ENCODINGS: tuple[str, ...] = get_args(InputEncoding)
 # a mount may sit on the body edge; this absorbs the rounding of decimal coordinates
 _MOUNT_TOLERANCE = 1e-9
 
@@ -322,32 +324,20 @@ def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
     """Read and validate every profile of a robot file (default: :func:`default_profiles_path`).
 
     Raises:
-        FileFormatError: the file is missing, not YAML, or of another format or version.
-        ConfigError: a key is unknown or missing, or a value is out of range (names both the
-            key, e.g. ``robots.ugv.step_min``, and the file).
+        FileFormatError: the file is missing, empty, not YAML, or of another format or version.
+        ConfigError: a key is unknown or missing, or a value is of the wrong type or out of
+            range (names both the key, e.g. ``robots.ugv.step_min``, and the file).
     """
     source = default_profiles_path() if path is None else Path(path)
-    try:
-        text = source.read_text(encoding="utf-8")
-    except OSError as err:
-        raise FileFormatError(source, f"cannot read robot file ({err.strerror})") from None
-    try:
-        doc = yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        raise FileFormatError(source, f"not valid YAML ({_first_line(err)})") from None
+    doc = read_yaml(source)
     if not isinstance(doc, dict):
         raise FileFormatError(source, "expected a mapping at the top level")
     if doc.get("format") != PROFILES_FORMAT:
         raise FileFormatError(source, f"format is {doc.get('format')!r}, not {PROFILES_FORMAT!r}")
     if not is_version(doc.get("version"), PROFILES_VERSION):
         raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
-    _check_keys(doc, {"format", "version", "robots"}, {"format", "version", "robots"}, "", source)
-    robots = doc["robots"]
-    if not isinstance(robots, dict) or not robots:
-        raise ConfigError("expected a non-empty mapping of profiles", key="robots", path=source)
-    return {
-        str(name): _parse_profile(str(name), spec, source) for name, spec in sorted(robots.items())
-    }
+    spec = validate(_RobotFile, doc, source)
+    return {name: spec.robots[name].profile(name) for name in sorted(spec.robots)}
 
 
 def get_profile(name: str, path: str | Path | None = None) -> RobotProfile:
@@ -360,156 +350,99 @@ def get_profile(name: str, path: str | Path | None = None) -> RobotProfile:
     return profiles[name]
 
 
-_SCALARS = (
-    "length",
-    "width",
-    "sensor_range",
-    "heading_change_max_deg",
-    "step_min",
-    "step_max",
-    "control_period",
-    "rated_speed",
-    "time_budget_slack",
-    "time_budget_cap",
-    "goal_radius",
-    "train_arena",
-    "test_arena",
-)
-_REQUIRED_KEYS = {*_SCALARS, "train_scenarios", "sensors"}
-# optional: a ray sensor (width 0, one ray) unless given
-_BEAM_KEYS = {"beam_width_deg", "beam_rays", "beam_sensors"}
-_MOUNT_KEYS = {"x", "y", "angle_deg"}
+_Positive = Annotated[Float, Field(gt=0.0)]
 
 
-def _parse_profile(name: str, spec: Any, source: Path) -> RobotProfile:
-    prefix = f"robots.{name}"
-    if not isinstance(spec, dict):
-        raise ConfigError("expected a mapping", key=prefix, path=source)
-    _check_keys(spec, _REQUIRED_KEYS | _BEAM_KEYS, _REQUIRED_KEYS, prefix, source)
-    # every scalar of a profile is a size, a time or a limit: all must be positive
-    v = {key: _number(spec[key], f"{prefix}.{key}", source, positive=True) for key in _SCALARS}
-    if v["step_min"] > v["step_max"]:
-        raise ConfigError(
-            f"step_min {v['step_min']} exceeds step_max {v['step_max']}",
-            key=f"{prefix}.step_min",
-            path=source,
+@config_dataclass
+class _MountSpec:
+    x: Float
+    y: Float
+    angle_deg: Float
+
+
+@config_dataclass
+class _ProfileSpec:
+    """One profile of the robot file: sizes, times and limits (all positive; angles in
+    degrees), its sensors and (optional) their beam: a ray sensor unless given."""
+
+    length: _Positive
+    width: _Positive
+    sensor_range: _Positive
+    heading_change_max_deg: _Positive
+    step_min: _Positive
+    step_max: _Positive
+    control_period: _Positive
+    rated_speed: _Positive
+    time_budget_slack: _Positive
+    time_budget_cap: _Positive
+    goal_radius: _Positive
+    train_arena: _Positive
+    test_arena: _Positive
+    train_scenarios: Annotated[Int, Field(ge=1)]
+    sensors: Annotated[list[_MountSpec], Field(min_length=1)]
+    beam_width_deg: Annotated[Float, Field(ge=0.0, lt=180.0)] = 0.0
+    beam_rays: Annotated[Int, Field(ge=1)] = 1
+    beam_sensors: Annotated[list[Annotated[Int, Field(ge=0)]], Field(min_length=1)] | None = None
+
+    @model_validator(mode="after")
+    def _consistent(self) -> _ProfileSpec:
+        if self.step_min > self.step_max:
+            raise fault("step_min", f"{self.step_min} exceeds step_max {self.step_max}")
+        if (self.beam_width_deg == 0.0) != (self.beam_rays == 1):
+            need = "1 ray" if self.beam_width_deg == 0.0 else "at least 2 rays"
+            raise fault(
+                "beam_rays", f"a beam {self.beam_width_deg} deg wide needs {need}, got "
+                f"{self.beam_rays}",
+            )  # fmt: skip
+        n = len(self.sensors)
+        if self.beam_sensors is not None:
+            if self.beam_rays == 1:
+                raise fault("beam_sensors", "needs a beam (beam_width_deg and beam_rays)")
+            picked = self.beam_sensors
+            if max(picked) >= n or len(set(picked)) != len(picked):
+                raise fault(
+                    "beam_sensors",
+                    f"expected distinct sensor indices in [0, {n}), got {self.beam_sensors}",
+                )
+        for i, m in enumerate(self.sensors):
+            half_l, half_w = 0.5 * self.length, 0.5 * self.width
+            if abs(m.x) > half_l + _MOUNT_TOLERANCE or abs(m.y) > half_w + _MOUNT_TOLERANCE:
+                raise fault(
+                    f"sensors[{i}]",
+                    f"sensor at ({m.x}, {m.y}) lies outside the {self.length} x {self.width} m "
+                    "body",
+                )
+        return self
+
+    def profile(self, name: str) -> RobotProfile:
+        """The profile (angles in radians) called ``name``."""
+        return RobotProfile(
+            name=name,
+            length=self.length,
+            width=self.width,
+            sensors=tuple(
+                SensorMount(x=m.x, y=m.y, angle=math.radians(m.angle_deg)) for m in self.sensors
+            ),
+            sensor_range=self.sensor_range,
+            heading_change_max=math.radians(self.heading_change_max_deg),
+            step_min=self.step_min,
+            step_max=self.step_max,
+            control_period=self.control_period,
+            rated_speed=self.rated_speed,
+            goal_radius=self.goal_radius,
+            time_budget_slack=self.time_budget_slack,
+            time_budget_cap=self.time_budget_cap,
+            train_arena=self.train_arena,
+            train_scenarios=self.train_scenarios,
+            test_arena=self.test_arena,
+            beam_width=math.radians(self.beam_width_deg),
+            beam_rays=self.beam_rays,
+            beam_sensors=None if self.beam_sensors is None else tuple(sorted(self.beam_sensors)),
         )
-    count = _count(spec["train_scenarios"], f"{prefix}.train_scenarios", source)
-    beam_width, beam_rays = _beam(spec, prefix, source)
-    mounts = spec["sensors"]
-    if not isinstance(mounts, list) or not mounts:
-        raise ConfigError("expected a non-empty list", key=f"{prefix}.sensors", path=source)
-    sensors = tuple(
-        _parse_mount(m, f"{prefix}.sensors[{i}]", v["length"], v["width"], source)
-        for i, m in enumerate(mounts)
-    )
-    beam_sensors = _beam_sensors(spec.get("beam_sensors"), beam_rays, len(sensors), prefix,
-                                 source)
-    return RobotProfile(
-        name=name,
-        length=v["length"],
-        width=v["width"],
-        sensors=sensors,
-        sensor_range=v["sensor_range"],
-        heading_change_max=math.radians(v["heading_change_max_deg"]),
-        step_min=v["step_min"],
-        step_max=v["step_max"],
-        control_period=v["control_period"],
-        rated_speed=v["rated_speed"],
-        goal_radius=v["goal_radius"],
-        time_budget_slack=v["time_budget_slack"],
-        time_budget_cap=v["time_budget_cap"],
-        train_arena=v["train_arena"],
-        train_scenarios=count,
-        test_arena=v["test_arena"],
-        beam_width=beam_width,
-        beam_rays=beam_rays,
-        beam_sensors=beam_sensors,
-    )
 
 
-def _count(value: Any, key: str, source: Path) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise ConfigError("must be a positive integer", key=key, path=source)
-    return value
-
-
-def _beam(spec: Mapping[str, Any], prefix: str, source: Path) -> tuple[float, int]:
-    """``(beam_width rad, beam_rays)`` of a profile: a single ray unless both say otherwise."""
-    width = _number(spec.get("beam_width_deg", 0.0), f"{prefix}.beam_width_deg", source)
-    rays = _count(spec.get("beam_rays", 1), f"{prefix}.beam_rays", source)
-    if not 0.0 <= width < 180.0:
-        raise ConfigError(
-            f"must lie in [0, 180) deg, got {width}", key=f"{prefix}.beam_width_deg", path=source
-        )
-    if (width == 0.0) != (rays == 1):
-        raise ConfigError(
-            f"a beam {width} deg wide needs {'1 ray' if width == 0.0 else 'at least 2 rays'}, "
-            f"got {rays}",
-            key=f"{prefix}.beam_rays",
-            path=source,
-        )
-    return math.radians(width), rays
-
-
-def _beam_sensors(
-    spec: Any, beam_rays: int, n_sensors: int, prefix: str, source: Path
-) -> tuple[int, ...] | None:
-    """The ``beam_sensors`` list of a profile: distinct reading indices, given only with a
-    beam; None when absent (every sensor has the beam)."""
-    if spec is None:
-        return None
-    key = f"{prefix}.beam_sensors"
-    if beam_rays == 1:
-        raise ConfigError("needs a beam (beam_width_deg and beam_rays)", key=key, path=source)
-    ok = isinstance(spec, list) and spec and all(
-        isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n_sensors for i in spec
-    )
-    if not ok or len(set(spec)) != len(spec):
-        raise ConfigError(
-            f"expected a non-empty list of distinct sensor indices in [0, {n_sensors}), "
-            f"got {spec!r}", key=key, path=source,
-        )
-    return tuple(sorted(spec))
-
-
-def _parse_mount(spec: Any, key: str, length: float, width: float, source: Path) -> SensorMount:
-    if not isinstance(spec, dict):
-        raise ConfigError("expected a mapping with x, y, angle_deg", key=key, path=source)
-    _check_keys(spec, _MOUNT_KEYS, _MOUNT_KEYS, key, source)
-    x = _number(spec["x"], f"{key}.x", source)
-    y = _number(spec["y"], f"{key}.y", source)
-    angle = _number(spec["angle_deg"], f"{key}.angle_deg", source)
-    if abs(x) > 0.5 * length + _MOUNT_TOLERANCE or abs(y) > 0.5 * width + _MOUNT_TOLERANCE:
-        raise ConfigError(
-            f"sensor at ({x}, {y}) lies outside the {length} x {width} m body",
-            key=key,
-            path=source,
-        )
-    return SensorMount(x=x, y=y, angle=math.radians(angle))
-
-
-def _number(value: Any, key: str, source: Path, positive: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ConfigError(f"expected a finite number, got {value!r}", key=key, path=source)
-    if positive and value <= 0:
-        raise ConfigError(f"must be positive, got {value}", key=key, path=source)
-    return float(value)
-
-
-def _check_keys(
-    spec: Mapping[Any, Any], allowed: set[str], required: set[str], prefix: str, source: Path
-) -> None:
-    def full(k: object) -> str:
-        return f"{prefix}.{k}" if prefix else str(k)
-
-    for k in sorted(map(str, spec)):
-        if k not in allowed:
-            raise ConfigError("unknown key", key=full(k), path=source)
-    for k in sorted(required):
-        if k not in spec:
-            raise ConfigError("missing key", key=full(k), path=source)
-
-
-def _first_line(err: Exception) -> str:
-    return str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+@config_dataclass
+class _RobotFile:
+    format: Str
+    version: Int
+    robots: Annotated[dict[Str, _ProfileSpec], Field(min_length=1)]

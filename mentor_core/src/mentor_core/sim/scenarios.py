@@ -14,15 +14,17 @@ same worlds and scenarios on any machine.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+from pydantic import Field, model_validator
 
-from mentor_core.errors import ConfigError, is_number
+from mentor_core.errors import ConfigError
+from mentor_core.sim.collision import robot_collides
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario, World
+from mentor_core.validation import Float, Int, config_dataclass, fault, to_plain, validate
 
 # default start/goal clearance = this factor x the body's half diagonal: the robot fits in
 # any heading, with a quarter of its half diagonal to spare
@@ -34,8 +36,11 @@ _MAX_ROUNDS = 400
 # draws of walls of one world, accepted or not
 _WALL_TRIES = 200
 
+_Count = Annotated[Int, Field(ge=0)]
+_Fraction = Annotated[Float, Field(gt=0.0)]
 
-@dataclass(frozen=True)
+
+@config_dataclass
 class DoEConfig:
     """Obstacle layout of a composite world; lengths as fractions of the arena side.
 
@@ -57,87 +62,47 @@ class DoEConfig:
             and the border, / arena side: a passage wide enough to drive through.
     """
 
-    grids_per_side: int = 2
-    crowded_grids: int = 2
-    crowded_count: tuple[int, int] = (8, 12)
-    sparse_count: tuple[int, int] = (1, 3)
-    size_fraction: tuple[float, float] = (0.03, 0.10)
-    gap_fraction: float = 0.02
-    max_rounds: int = 50
-    wall_count: tuple[int, int] = (0, 0)
-    wall_length_fraction: tuple[float, float] = (0.35, 0.65)
-    wall_thickness_fraction: float = 0.025
-    wall_anchor_share: float = 0.5
-    wall_passage_fraction: float = 0.125
+    grids_per_side: Annotated[Int, Field(ge=1)] = 2
+    crowded_grids: _Count = 2
+    crowded_count: tuple[_Count, _Count] = (8, 12)
+    sparse_count: tuple[_Count, _Count] = (1, 3)
+    size_fraction: tuple[_Fraction, _Fraction] = (0.03, 0.10)
+    gap_fraction: Annotated[Float, Field(ge=0.0)] = 0.02
+    max_rounds: Annotated[Int, Field(ge=1)] = 50
+    wall_count: tuple[_Count, _Count] = (0, 0)
+    wall_length_fraction: tuple[_Fraction, _Fraction] = (0.35, 0.65)
+    wall_thickness_fraction: _Fraction = 0.025
+    wall_anchor_share: Annotated[Float, Field(ge=0.0, le=1.0)] = 0.5
+    wall_passage_fraction: Annotated[Float, Field(gt=0.0, lt=0.5)] = 0.125
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "<dict>") -> DoEConfig:
         """Build from a plain mapping (YAML lists for the pairs); ConfigError naming the key
-        for an unknown key or a bad value."""
-        if not isinstance(data, dict):
-            raise ConfigError("must be a mapping", key="doe", path=source)
-        kwargs: dict[str, Any] = {}
-        for key, value in data.items():
-            if key not in cls.__dataclass_fields__:
-                raise ConfigError("unknown key", key=f"doe.{key}", path=source)
-            pair = isinstance(getattr(cls, key), tuple)
-            if pair and not (isinstance(value, list | tuple) and len(value) == 2):
-                raise ConfigError("must be a pair [min, max]", key=f"doe.{key}", path=source)
-            kwargs[key] = tuple(value) if pair else value
-        try:
-            return cls(**kwargs)
-        except ConfigError as err:
-            raise ConfigError(
-                str(err).split(": ", 1)[-1], key=f"doe.{err.key}", path=source
-            ) from None
+        (``doe.<key>``) and ``source`` for an unknown key or a bad value."""
+        return validate(cls, data, source, prefix="doe")
 
     def to_dict(self) -> dict[str, Any]:
         """A plain mapping (lists for the pairs) that :meth:`from_dict` turns back."""
-        return {
-            f: list(v) if isinstance(v, tuple) else v
-            for f, v in ((f, getattr(self, f)) for f in self.__dataclass_fields__)
-        }
+        plain: dict[str, Any] = to_plain(self)
+        return plain
 
-    def __post_init__(self) -> None:
-        for key, value in ((f, getattr(self, f)) for f in self.__dataclass_fields__):
-            items = value if isinstance(value, tuple) else (value,)
-            if not all(is_number(v) for v in items):
-                raise ConfigError("must be a number, or a pair of numbers", key=key)
-        if self.grids_per_side < 1:
-            raise ConfigError("must be >= 1", key="grids_per_side")
-        if not 0 <= self.crowded_grids <= self.grids_per_side**2:
-            raise ConfigError("must be between 0 and the number of grids", key="crowded_grids")
-        for key in ("crowded_count", "sparse_count"):
+    @model_validator(mode="after")
+    def _consistent(self) -> DoEConfig:
+        if self.crowded_grids > self.grids_per_side**2:
+            raise fault("crowded_grids", "must be between 0 and the number of grids")
+        for key in ("crowded_count", "sparse_count", "size_fraction", "wall_count",
+                    "wall_length_fraction"):  # fmt: skip
             lo, hi = getattr(self, key)
-            if not 0 <= lo <= hi:
-                raise ConfigError("must be (min, max) with 0 <= min <= max", key=key)
-        lo_f, hi_f = self.size_fraction
-        if not 0.0 < lo_f <= hi_f:
-            raise ConfigError("must be (min, max) with 0 < min <= max", key="size_fraction")
-        if self.gap_fraction < 0.0:
-            raise ConfigError("must be >= 0", key="gap_fraction")
-        if hi_f + self.gap_fraction >= 1.0 / self.grids_per_side:
-            raise ConfigError("largest obstacle plus gap must fit in a grid", key="size_fraction")
-        if self.max_rounds < 1:
-            raise ConfigError("must be >= 1", key="max_rounds")
-        if not (isinstance(self.wall_count[0], int) and isinstance(self.wall_count[1], int)
-                and 0 <= self.wall_count[0] <= self.wall_count[1]):
-            raise ConfigError("must be whole numbers (min, max), 0 <= min <= max",
-                              key="wall_count")
-        passage = self.wall_passage_fraction
-        if not 0.0 < passage < 0.5:
-            raise ConfigError("must be in (0, 0.5)", key="wall_passage_fraction")
-        lo_w, hi_w = self.wall_length_fraction
-        if not 0.0 < lo_w <= hi_w <= 1.0 - 2.0 * passage:
-            raise ConfigError(
-                "must be (min, max) with 0 < min <= max <= 1 - 2 wall_passage_fraction",
-                key="wall_length_fraction",
-            )
-        if not 0.0 < self.wall_thickness_fraction <= 1.0 - 2.0 * passage:
-            raise ConfigError("must be in (0, 1 - 2 wall_passage_fraction]",
-                              key="wall_thickness_fraction")
-        if not 0.0 <= self.wall_anchor_share <= 1.0:
-            raise ConfigError("must be in [0, 1]", key="wall_anchor_share")
+            if lo > hi:
+                raise fault(key, f"must be a pair [min, max] with min <= max, got [{lo}, {hi}]")
+        if self.size_fraction[1] + self.gap_fraction >= 1.0 / self.grids_per_side:
+            raise fault("size_fraction", "largest obstacle plus gap must fit in a grid")
+        room = 1.0 - 2.0 * self.wall_passage_fraction
+        if self.wall_length_fraction[1] > room:
+            raise fault("wall_length_fraction", "max must be <= 1 - 2 wall_passage_fraction")
+        if self.wall_thickness_fraction > room:
+            raise fault("wall_thickness_fraction", "must be <= 1 - 2 wall_passage_fraction")
+        return self
 
 
 def latin_hypercube(n: int, d: int, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -169,7 +134,8 @@ def sample_world(size: float, rng: np.random.Generator, cfg: DoEConfig | None = 
     its position across is uniform with a passage to the border. A wall closer than a passage
     to an earlier wall is drawn again (at most ``_WALL_TRIES`` draws in all), and the grids'
     boxes closer than ``gap`` to a wall are removed. Without walls no draw is made, so the
-    paper's worlds do not change.
+    paper's worlds do not change. ConfigError (key ``wall_count``) when fewer walls than its
+    minimum fit.
     """
     cfg = DoEConfig() if cfg is None else cfg
     if not math.isfinite(size) or size <= 0.0:
@@ -215,6 +181,12 @@ def _draw_walls(
         )  # fmt: skip
         if not any(_too_close(wall, other, passage) for other in walls):
             walls.append(wall)
+    if len(walls) < cfg.wall_count[0]:
+        raise ConfigError(
+            f"only {len(walls)} walls fit in a {size:g} m arena with a passage of "
+            f"{passage:g} m between them, {cfg.wall_count[0]} or more asked for",
+            key="wall_count",
+        )
     return walls
 
 
@@ -311,6 +283,21 @@ def sample_scenarios(
     if len(found) == n:
         return found
     raise ValueError(f"found only {len(found)} of {n} start/goal pairs in free space")
+
+
+def start_overlap(world: World, start: ArrayLike, profile: RobotProfile) -> str:
+    """Why a robot of ``profile`` cannot start at ``start`` (x, y, theta) in ``world`` (its
+    body there overlaps an obstacle or crosses a wall), or '' when it can.
+
+    Such a scenario is a bad one, not a collision of the planner: mentor-eval and the
+    simulator node both skip it with this reason (``ScenarioPlan``), so that both run and
+    score the same scenarios.
+    """
+    pose = np.asarray(start, dtype=np.float64).reshape(3)
+    if not robot_collides(pose[None, :], profile, world)[0]:
+        return ""
+    x, y, th = (float(v) for v in pose)
+    return f"its body at the start ({x:.3f}, {y:.3f}, {th:.3f}) overlaps an obstacle or a wall"
 
 
 def training_scenarios(

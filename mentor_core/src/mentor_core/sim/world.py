@@ -11,7 +11,7 @@ World file (YAML, format ``mentor-world``, version 1, lengths in m, angles in ra
     version: 1
     units: m                     # optional; only "m" is accepted
     name: demo                   # optional
-    size: 12.0
+    size: 12.0                   # (0, 1e5] m
     obstacles:                   # may be empty
       - [1.0, 1.0, 2.0, 1.5]     # xmin, ymin, xmax, ymax
     scenarios:                   # optional start/goal pairs
@@ -21,6 +21,9 @@ Instead of ``size``, a file may name a ROS map, ``map: maps/office.yaml`` (relat
 world file's folder): the arena and obstacles come from the map, read by the ``map_reader``
 that :func:`load_world` is given (``mentor_core.navigation.map_world.load_world_file`` gives
 the navigation wing's); ``obstacles`` are added to the map's.
+
+Read with YAML 1.2 numbers (``1e3`` is a number) and strict types (``size: "12"`` is refused);
+every fault is one FileFormatError line naming the file and the key.
 """
 
 from __future__ import annotations
@@ -29,20 +32,23 @@ import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
 from numpy.typing import ArrayLike, NDArray
+from pydantic import Field
 
 from mentor_core.atomic import write_text_atomic
-from mentor_core.errors import FileFormatError, is_number, is_version
+from mentor_core.errors import ConfigError, FileFormatError, is_version
 from mentor_core.sim.kinematics import wrap_angle
+from mentor_core.validation import Float, Str, config_dataclass, read_yaml, validate
 
 WORLD_FORMAT = "mentor-world"
 WORLD_VERSION = 1
-_TOP_KEYS = {"format", "version", "units", "name", "size", "map", "obstacles", "scenarios"}
-_SCENARIO_KEYS = {"start", "goal"}
+#: the largest arena side, m: beyond it float64 positions lose the sub-micrometre precision
+#: that collision checks and ray casts rely on (the robots' arenas are 4-12 m)
+MAX_ARENA_SIZE = 1e5
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +70,11 @@ class World:
         size = float(self.size)
         if not math.isfinite(size) or size <= 0.0:
             raise ValueError(f"arena size must be a positive finite number, got {self.size!r}")
+        if size > MAX_ARENA_SIZE:
+            raise ValueError(
+                f"arena size {size:g} m is beyond the largest arena, {MAX_ARENA_SIZE:g} m "
+                "(larger ones lose the float precision the collision checks need)"
+            )
         boxes = np.array(self.obstacles, dtype=np.float64, copy=True)
         if boxes.size == 0:
             boxes = boxes.reshape(0, 4)
@@ -176,98 +187,94 @@ def _point_fault(world: World, xy: Sequence[float]) -> str:
 MapReader = Callable[[Path], World]
 
 
+@config_dataclass
+class _ScenarioEntry:
+    start: tuple[Float, Float, Float]
+    goal: tuple[Float, Float]
+
+
+@config_dataclass
+class _WorldFile:
+    """The keys of a world file (module docstring), types checked; the geometry is checked
+    by :class:`World` and :class:`Scenario`, ``size`` or ``map`` by :func:`load_world`."""
+
+    format: Str
+    version: Annotated[int, Field(strict=True)]
+    size: Float | None = None
+    map: Str | None = None
+    units: Literal["m"] = "m"
+    name: Str | None = None
+    obstacles: list[tuple[Float, Float, Float, Float]] | None = None
+    scenarios: list[_ScenarioEntry] | None = None
+
+
 def load_world(
     path: str | Path, map_reader: MapReader | None = None
 ) -> tuple[World, list[Scenario]]:
-    """Read and validate a world file; FileFormatError naming the file and the fault (a file
+    """Read and validate a world file; FileFormatError naming the file, the key and the fault
+    (for a missing, empty or non-YAML file as :func:`mentor_core.validation.read_yaml`; a file
     with a ``map`` key needs ``map_reader``, see the module docstring)."""
     source = Path(path)
+    doc = read_yaml(source)
+    if isinstance(doc, dict):  # the format first: a foreign file is named as such
+        if doc.get("format") != WORLD_FORMAT:
+            raise FileFormatError(
+                source, f"format is {doc.get('format')!r}, not {WORLD_FORMAT!r}"
+            )
+        if not is_version(doc.get("version"), WORLD_VERSION):
+            raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
     try:
-        text = source.read_text(encoding="utf-8")
-    except OSError as err:
-        raise FileFormatError(source, f"cannot read world file ({err.strerror})") from None
-    try:
-        doc = yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        line = str(err).strip().splitlines()[0] if str(err).strip() else "parse error"
-        raise FileFormatError(source, f"not valid YAML ({line})") from None
-    try:
-        return _world_from_doc(doc, source.parent, map_reader)
-    except (ValueError, TypeError) as err:
+        spec = validate(_WorldFile, doc)
+    except ConfigError as err:
         raise FileFormatError(source, str(err)) from None
-
-
-def _world_from_doc(
-    doc: Any, folder: Path, map_reader: MapReader | None
-) -> tuple[World, list[Scenario]]:
-    if not isinstance(doc, dict):
-        raise ValueError("expected a mapping at the top level")
-    if doc.get("format") != WORLD_FORMAT:
-        raise ValueError(f"format is {doc.get('format')!r}, not {WORLD_FORMAT!r}")
-    if not is_version(doc.get("version"), WORLD_VERSION):
-        raise ValueError(f"version {doc.get('version')!r} is not supported")
-    unknown = sorted(set(map(str, doc)) - _TOP_KEYS)
-    if unknown:
-        raise ValueError(f"unknown key {unknown[0]!r}")
-    if doc.get("units", "m") != "m":
-        raise ValueError(f"units must be 'm', got {doc.get('units')!r}")
-    base = _map_world(doc, folder, map_reader)
-    if base is None and "size" not in doc:
-        raise ValueError("missing key 'size' (or 'map')")
-    size = base.size if base is not None else _numbers(doc["size"], "size", 1)[0]
-    raw = doc.get("obstacles") or []
-    if not isinstance(raw, list):
-        raise ValueError("obstacles must be a list of [xmin, ymin, xmax, ymax]")
-    boxes = [_numbers(b, f"obstacles[{i}]", 4) for i, b in enumerate(raw)]
+    base = _map_world(spec, source, map_reader)
     if base is not None:
-        boxes = base.obstacles.tolist() + boxes
-    name = str(doc.get("name", base.name if base is not None else ""))
-    world = World(size=size, obstacles=np.array(boxes).reshape(-1, 4), name=name)
-    entries = doc.get("scenarios") or []
-    if not isinstance(entries, list):
-        raise ValueError("scenarios must be a list of {start, goal}")
-    scenarios = []
-    for i, entry in enumerate(entries):
-        if not isinstance(entry, dict) or set(map(str, entry)) != _SCENARIO_KEYS:
-            raise ValueError(f"scenarios[{i}] must have exactly the keys start and goal")
-        start = _numbers(entry["start"], f"scenarios[{i}].start", 3)
-        goal = _numbers(entry["goal"], f"scenarios[{i}].goal", 2)
+        size = base.size
+    elif spec.size is None:
+        raise FileFormatError(source, "size: missing key (or give 'map')")
+    else:
+        size = spec.size
         try:
-            scenarios.append(Scenario(world, (start[0], start[1], start[2]), (goal[0], goal[1])))
+            World(size=size)  # the size alone first, so that its fault is named as such
         except ValueError as err:
-            raise ValueError(f"scenarios[{i}]: {err}") from None
+            raise FileFormatError(source, f"size: {err}") from None
+    boxes = np.array(spec.obstacles or [], dtype=np.float64).reshape(-1, 4)
+    if base is not None:
+        boxes = np.concatenate([base.obstacles, boxes])
+    name = spec.name if spec.name is not None else (base.name if base is not None else "")
+    try:
+        world = World(size=size, obstacles=boxes, name=name)
+    except ValueError as err:  # names the obstacle: obstacles[i] ...
+        raise FileFormatError(source, str(err)) from None
+    scenarios = []
+    for i, entry in enumerate(spec.scenarios or []):
+        try:
+            scenarios.append(Scenario(world, entry.start, entry.goal))
+        except ValueError as err:
+            raise FileFormatError(source, f"scenarios[{i}]: {err}") from None
     return world, scenarios
 
 
-def _map_world(doc: dict[Any, Any], folder: Path, map_reader: MapReader | None) -> World | None:
-    """The world of the file's ``map`` key (None without one); ValueError for a bad key."""
-    if "map" not in doc:
+def _map_world(spec: _WorldFile, source: Path, map_reader: MapReader | None) -> World | None:
+    """The world of the file's ``map`` key (None without one); FileFormatError naming the
+    world file for a bad key, and the map's own fault after ``map:``."""
+    if spec.map is None:
         return None
-    if "size" in doc:
-        raise ValueError("give 'size' or 'map', not both (a map sets the arena)")
-    ref = doc["map"]
-    if not isinstance(ref, str) or not ref.strip():
-        raise ValueError("map must name a map YAML file")
+    if spec.size is not None:
+        raise FileFormatError(source, "map: give 'size' or 'map', not both (a map sets the arena)")
+    if not spec.map.strip():
+        raise FileFormatError(source, "map: must name a map YAML file")
     if map_reader is None:
-        raise ValueError(
-            "key 'map' needs a map reader: load the file with "
-            "mentor_core.navigation.map_world.load_world_file"
+        raise FileFormatError(
+            source,
+            "map: key 'map' needs a map reader: load the file with "
+            "mentor_core.navigation.map_world.load_world_file",
         )
-    path = Path(ref)
-    return map_reader(path if path.is_absolute() else folder / path)
-
-
-def _numbers(value: Any, key: str, n: int) -> list[float]:
-    """``n`` finite numbers from a scalar (n = 1) or a list; ValueError naming ``key``."""
-    items = [value] if n == 1 and not isinstance(value, list) else value
-    if not isinstance(items, list) or len(items) != n:
-        raise ValueError(f"{key} must be a list of {n} numbers")
-    for v in items:
-        if not is_number(v):
-            raise ValueError(f"{key} must hold numbers, got {v!r}")
-        if not math.isfinite(v):
-            raise ValueError(f"{key} is not finite ({v})")
-    return [float(v) for v in items]
+    path = Path(spec.map)
+    try:
+        return map_reader(path if path.is_absolute() else source.parent / path)
+    except ValueError as err:  # FileFormatError naming the map YAML or its image
+        raise FileFormatError(source, f"map: {err}") from None
 
 
 def save_world(path: str | Path, world: World, scenarios: Iterable[Scenario] = ()) -> None:

@@ -93,10 +93,13 @@ def assess(
     scenarios: Sequence[Scenario],
     time_limit: float = TEST_TIME_LIMIT,
     input_goals: InputGoals | None = None,
+    numbers: Sequence[int] | None = None,
 ) -> Assessment:
     """Run ``genome`` once on each scenario with a fixed time limit (s); ``input_goals``
     gives the goal each network sees (a carrot along a global path,
-    :func:`mentor_core.navigation.guide.guided_goals`), None: the scenario's goal."""
+    :func:`mentor_core.navigation.guide.guided_goals`), None: the scenario's goal;
+    ``numbers`` are the scenarios' numbers in their source (default 0, 1, ...), as the
+    results report them."""
     check_compatible(genome, profile)
     network = FeedForwardNetwork.from_genome(genome)
 
@@ -107,9 +110,10 @@ def assess(
     batch = run_episodes(
         list(scenarios), profile, policy, time_budgets=budgets, input_goals=input_goals
     )
+    ids = list(range(len(scenarios))) if numbers is None else [int(n) for n in numbers]
     results = tuple(
         ScenarioResult(
-            scenario=i,
+            scenario=ids[i],
             reached=bool(batch.reached[i]),
             collided=bool(batch.collided[i]),
             timed_out=bool(batch.timed_out[i]),

@@ -178,14 +178,20 @@ def pareto_json(
     }
 
 
-def load_json(path: Path) -> Any:
-    """A JSON file's content; FileFormatError naming ``path`` if missing or not JSON."""
+def load_json(path: Path) -> dict[str, Any]:
+    """A JSON file's object (every file of a run directory is one); FileFormatError naming
+    ``path`` if missing, not JSON or not a JSON object."""
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise FileFormatError(path, "no such file") from None
     except (json.JSONDecodeError, UnicodeDecodeError) as err:
         raise FileFormatError(path, f"not valid JSON ({one_line(err)})") from None
+    if not isinstance(data, dict):
+        kind = {list: "an array", str: "a string", bool: "a boolean", type(None): "null"}
+        got = kind.get(type(data), "a number")
+        raise FileFormatError(path, f"expected a JSON object, got {got}")
+    return data
 
 
 def load_population(path: str | Path) -> list[tuple[Genome, dict[str, Any]]]:

@@ -41,7 +41,7 @@ from mentor_core.files.bags.records import (
     RobotEpisode,
     ScanRecord,
 )
-from mentor_core.files.bags.writing import write_episode_bag, write_scenario_bag
+from mentor_core.files.bags.writing import looks_like_bag, write_episode_bag, write_scenario_bag
 
 __all__ = [
     "ARENA_LINE_WIDTH",
@@ -73,6 +73,7 @@ __all__ = [
     "ScanRecord",
     "arena_outline",
     "box_markers",
+    "looks_like_bag",
     "read_episode_bag",
     "read_scenario_bag",
     "scan_geometry",

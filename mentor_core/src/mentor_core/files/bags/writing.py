@@ -76,7 +76,10 @@ class _Out:
     message: Any
 
 
-def _looks_like_bag(path: Path) -> bool:
+def looks_like_bag(path: str | Path) -> bool:
+    """Whether ``path`` is a folder that a bag may replace: a rosbag2 bag (it holds a
+    ``metadata.yaml``) or an empty folder."""
+    path = Path(path)
     return path.is_dir() and ((path / "metadata.yaml").is_file() or not any(path.iterdir()))
 
 
@@ -89,7 +92,7 @@ def _write_bag(
     if target.exists() or target.is_symlink():
         if not overwrite:
             raise FileExistsError(f"{target}: exists already (pass overwrite=True to replace it)")
-        if not _looks_like_bag(target):
+        if not looks_like_bag(target):
             raise FileExistsError(f"{target}: exists and is not a rosbag2 bag; not replacing it")
     target.parent.mkdir(parents=True, exist_ok=True)
     ts = _store()

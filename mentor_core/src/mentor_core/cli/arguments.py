@@ -1,0 +1,67 @@
+"""Argument parsing shared by the ``mentor-*`` commands: one-line errors and checked values.
+
+A bad argument (a seed of -1, ``--n -2``, a missing option) is refused by argparse itself, in
+one line ``PROG: error: ARGUMENT: FAULT (see PROG --help)`` with exit status 2, before any work
+starts, the same as every other bad input of the commands.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from typing import NoReturn
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line on stderr and exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        """Print ``PROG: error: MESSAGE (see PROG --help)`` and exit 2."""
+        text = " ".join(message.split())
+        self.exit(2, f"{self.prog}: error: {text} (see {self.prog} --help)\n")
+
+
+def seed(text: str) -> int:
+    """A seed of numpy's generators: a whole number >= 0."""
+    return _whole(text, 0, "a whole number >= 0")
+
+
+def index(text: str) -> int:
+    """An index or a count that may be 0: a whole number >= 0."""
+    return _whole(text, 0, "a whole number >= 0")
+
+
+def count(text: str) -> int:
+    """A count of things: a whole number >= 1."""
+    return _whole(text, 1, "a whole number >= 1")
+
+
+def duration(text: str) -> float:
+    """A positive finite number of seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {text!r}")
+    return value
+
+
+def _whole(text: str, least: int, expected: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+    if value < least:
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {value}")
+    return value
+
+
+def fail(prog: str, message: object) -> int:
+    """Print ``PROG: MESSAGE`` (on one line) on stderr; returns exit status 2."""
+    print(f"{prog}: {' '.join(str(message).split())}", file=sys.stderr)
+    return 2
+
+
+__all__ = ["Parser", "count", "duration", "fail", "index", "seed"]
