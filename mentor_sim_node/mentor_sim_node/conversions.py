@@ -18,7 +18,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from builtin_interfaces.msg import Time
@@ -94,7 +94,25 @@ def laser_scan_from_ranges(
     if (r < 0.0).any():
         raise ValueError("negative range reading")
     geo = scan_geometry(profile)
-    r = np.where(r > geo.range_max, np.inf, r)
+    return _laser_scan(np.where(r > geo.range_max, np.inf, r), geo, stamp, frame_id)
+
+
+class _ScanAngles(Protocol):
+    """What a LaserScan's header fields come from: a profile's scan geometry or a lidar."""
+
+    @property
+    def angle_min(self) -> float: ...
+    @property
+    def angle_max(self) -> float: ...
+    @property
+    def angle_increment(self) -> float: ...
+    @property
+    def range_min(self) -> float: ...
+    @property
+    def range_max(self) -> float: ...
+
+
+def _laser_scan(r: np.ndarray, geo: _ScanAngles, stamp: Time, frame_id: str) -> LaserScan:
     return LaserScan(
         header=Header(stamp=stamp, frame_id=frame_id),
         angle_min=geo.angle_min,
@@ -217,18 +235,7 @@ def occupancy_grid_from_grid(grid: OccupancyGrid, stamp: Time | None = None) -> 
 
 def lidar_scan(ranges: ArrayLike, spec: LidarSpec, stamp: Time, frame_id: str) -> LaserScan:
     """LaserScan of a simulated lidar's ranges (m, REP-117 coded: +inf, -inf kept)."""
-    r = np.asarray(ranges, dtype=np.float64)
-    return LaserScan(
-        header=Header(stamp=stamp, frame_id=frame_id),
-        angle_min=spec.angle_min,
-        angle_max=spec.angle_max,
-        angle_increment=spec.angle_increment,
-        time_increment=0.0,
-        scan_time=0.0,
-        range_min=spec.range_min,
-        range_max=spec.range_max,
-        ranges=r.astype(np.float32).tolist(),
-    )
+    return _laser_scan(np.asarray(ranges, dtype=np.float64), spec, stamp, frame_id)
 
 
 def transforms(links: Sequence[FrameLink], stamp: Time) -> list[TransformStamped]:
