@@ -11,9 +11,6 @@ is left in its session, never with ``ray stop`` (which would stop every Ray of t
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import os
 import secrets
 import shutil
@@ -29,6 +26,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from run_support import snapshot
 
 from mentor_core.cli import train as train_cli
 
@@ -132,26 +130,6 @@ def mentor_train(args: list[str], env: dict[str, str]) -> subprocess.CompletedPr
                           capture_output=True, text=True, timeout=300, check=False)
 
 
-def run_files(run: Path) -> dict[str, object]:
-    """Every file of a run directory, the wall-clock ``seconds`` column (history.csv, and the
-    checkpoint's copy of it) left out."""
-    def rows(text: str) -> list[dict[str, str]]:
-        return [{k: v for k, v in r.items() if k != "seconds"}
-                for r in csv.DictReader(io.StringIO(text))]
-
-    files: dict[str, object] = {}
-    for path in sorted(run.iterdir()):
-        if path.name == "history.csv":
-            files[path.name] = rows(path.read_text())
-        elif path.name == "checkpoint.json":
-            state = json.loads(path.read_text())
-            state["history"] = rows(state["history"])
-            files[path.name] = state
-        else:
-            files[path.name] = path.read_bytes()
-    return files
-
-
 def test_a_run_on_the_cluster_equals_the_in_process_run(cluster: Cluster, tmp_path: Path) -> None:
     config = tiny_yaml(tmp_path / "tiny.yaml")
     assert train_cli.main(train_args(config, tmp_path / "here")) == 0
@@ -161,7 +139,7 @@ def test_a_run_on_the_cluster_equals_the_in_process_run(cluster: Cluster, tmp_pa
     said = [line for line in proc.stderr.splitlines() if "evaluating on" in line]
     assert len(said) == 1 and "the Ray cluster at" in said[0], proc.stderr
     assert "(1 node, 1 CPU), 1 task a generation" in said[0]
-    here, there = run_files(tmp_path / "here"), run_files(tmp_path / "ray")
+    here, there = snapshot(tmp_path / "here"), snapshot(tmp_path / "ray")
     assert sorted(there) == sorted(here) and len(here) >= 6
     for name in here:
         assert there[name] == here[name], name

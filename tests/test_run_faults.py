@@ -20,12 +20,12 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Any
 
 import fault_hook
 import numpy as np
 import pytest
 import yaml
+from run_support import snapshot
 
 from mentor_core.cli import train as train_cli
 
@@ -47,26 +47,6 @@ def tiny_config(folder: Path) -> Path:
 def argv(config: Path, framework: str, out: Path, *extra: str) -> list[str]:
     return ["--robot", "swarm", "--framework", framework, "--config", str(config),
             "--seed", "5", "--quiet", "--out", str(out), *extra]  # fmt: skip
-
-
-def without_seconds(history: str) -> list[dict[str, str]]:
-    return [{k: v for k, v in row.items() if k != "seconds"}
-            for row in csv.DictReader(io.StringIO(history))]  # fmt: skip
-
-
-def snapshot(run: Path) -> dict[str, Any]:
-    """Every file of a run directory, by name (the wall-clock seconds left out)."""
-    files: dict[str, Any] = {}
-    for path in sorted(run.iterdir()):
-        if path.name == "history.csv":
-            files[path.name] = without_seconds(path.read_text())
-        elif path.name == "checkpoint.json":
-            state = json.loads(path.read_text())
-            state["history"] = without_seconds(state["history"])
-            files[path.name] = state
-        else:
-            files[path.name] = path.read_bytes()
-    return files
 
 
 class Reference:

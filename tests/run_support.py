@@ -1,0 +1,31 @@
+"""A run directory's files as a comparable snapshot, for tests that compare two runs."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+from typing import Any
+
+
+def without_seconds(history: str) -> list[dict[str, str]]:
+    """The rows of a history CSV text without the wall-clock ``seconds`` column."""
+    return [{k: v for k, v in row.items() if k != "seconds"}
+            for row in csv.DictReader(io.StringIO(history))]  # fmt: skip
+
+
+def snapshot(run: Path) -> dict[str, Any]:
+    """Every file of a run directory, by name; the wall-clock ``seconds`` column of
+    history.csv and of the checkpoint's copy of it left out."""
+    files: dict[str, Any] = {}
+    for path in sorted(run.iterdir()):
+        if path.name == "history.csv":
+            files[path.name] = without_seconds(path.read_text())
+        elif path.name == "checkpoint.json":
+            state = json.loads(path.read_text())
+            state["history"] = without_seconds(state["history"])
+            files[path.name] = state
+        else:
+            files[path.name] = path.read_bytes()
+    return files
