@@ -24,7 +24,12 @@ from mentor_core.evolution.genome import Genome
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.robots import get_profile
-from mentor_core.training.run_files import HISTORY_FIELDS, GenerationRecord, RunPaths
+from mentor_core.training.run_files import (
+    HISTORY_FIELDS,
+    GenerationRecord,
+    RunPaths,
+    record_from_row,
+)
 
 
 @dataclass(frozen=True)
@@ -140,26 +145,9 @@ def read_history(path: str | Path) -> list[GenerationRecord]:
     if missing:
         raise FileFormatError(p, f"missing columns {', '.join(missing)}")
     records: list[GenerationRecord] = []
-    floats = (
-        "best_F", "mean_F", "best_G", "mean_G", "largest_niche_share",
-        "best_success_rate", "mean_complexity", "best_complexity", "seconds",
-    )  # fmt: skip
     for line, row in enumerate(reader, start=2):
         try:
-            sizes = json.loads(row["niche_sizes"])
-            if not isinstance(sizes, dict):
-                raise ValueError("niche_sizes is not a JSON object")
-            records.append(
-                GenerationRecord(
-                    generation=int(row["generation"]),
-                    stage=int(row["stage"]),
-                    mode=str(row["mode"]),
-                    evaluations=int(row["evaluations"]),
-                    species=int(row["species"]),
-                    niche_sizes={int(k): int(v) for k, v in sizes.items()},
-                    **{k: float(row[k]) for k in floats},
-                )
-            )
+            records.append(record_from_row(row))
         except (TypeError, ValueError) as err:
             raise FileFormatError(p, f"line {line}: {one_line(err)}") from None
     if not records:

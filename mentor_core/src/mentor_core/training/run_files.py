@@ -117,8 +117,13 @@ _FLOAT_FIELDS = (
 )  # fmt: skip
 
 
-def _record_from_row(row: dict[str, Any]) -> GenerationRecord:
-    sizes = {int(k): int(v) for k, v in json.loads(row["niche_sizes"]).items()}
+def record_from_row(row: dict[str, Any]) -> GenerationRecord:
+    """One row of ``history.csv`` (a ``csv.DictReader`` row) as a record; KeyError,
+    TypeError or ValueError when it is corrupt."""
+    niches = json.loads(row["niche_sizes"])
+    if not isinstance(niches, dict):
+        raise ValueError("niche_sizes is not a JSON object")
+    sizes = {int(k): int(v) for k, v in niches.items()}
     return GenerationRecord(
         generation=int(row["generation"]),
         stage=int(row["stage"]),
@@ -133,7 +138,7 @@ def _record_from_row(row: dict[str, Any]) -> GenerationRecord:
 def history_from_csv(text: str) -> list[GenerationRecord]:
     """The records of :func:`history_csv`'s text (KeyError, TypeError or ValueError if it is
     corrupt)."""
-    return [_record_from_row(r) for r in csv.DictReader(io.StringIO(text))]
+    return [record_from_row(r) for r in csv.DictReader(io.StringIO(text))]
 
 
 def population_json(
