@@ -4,7 +4,7 @@
 validation ``0, 1, ...`` and test ``1,000,000, ...``; settings are chosen on the validation
 split, the test split only reports. The world and its pairs come from one generator,
 ``np.random.default_rng([seed, family code])``: the world first (redrawn from the same
-generator, at most ``_WORLD_TRIES`` times, in the rare case that it holds fewer than
+generator, at most ``WORLD_TRIES`` times, in the rare case that it holds fewer than
 ``PAIRS_PER_WORLD`` solvable pairs), then its pairs. A suite of ``N`` pairs per family
 takes worlds ``0 .. ceil(N / 5) - 1``, five pairs each (the last one fewer), so a larger suite
 extends a smaller one and the layouts are the same for both robots, each at its own scale.
@@ -40,7 +40,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mentor_core.navigation.pairs import distance_range, solvable_pairs
+from mentor_core.navigation.pairs import (
+    FEASIBLE_SHARE,
+    distance_range,
+    world_with_pairs,
+)
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, with_planner
 from mentor_core.sim.world import Scenario, World
@@ -48,8 +52,6 @@ from mentor_core.sim.world import Scenario, World
 SPLITS = {"validation": 0, "test": 1_000_000}
 PAIRS_PER_WORLD = 5
 PAPER_LIMIT = 50.0  # s, the paper's test limit
-FEASIBLE_SHARE = 0.7  # share of the paper's limit the shortest path may take at top pace
-_WORLD_TRIES = 10
 # the planners shipped with issue 15 (train_<robot>_paper.yaml), frozen for the benchmark
 _REFERENCE: dict[str, dict[str, float | str | None]] = {
     "ugv": {"input_encoding": "egocentric", "heading_change_max": math.pi / 4,
@@ -114,33 +116,19 @@ def world_pairs(
     family: str, seed: int, robot: RobotProfile, reference: RobotProfile | None = None
 ) -> tuple[World, list[BenchPair]]:
     """World ``seed`` of ``family`` at ``robot``'s test arena and its ``PAIRS_PER_WORLD``
-    solvable pairs. Deterministic for (family, seed, robot); ValueError for an unknown family
-    or a world that holds too few pairs in ``_WORLD_TRIES`` draws."""
+    solvable pairs (module docstring). Deterministic for (family, seed, robot); ValueError for
+    an unknown family or a world that holds too few pairs in ``WORLD_TRIES`` draws."""
     if family not in FAMILIES:
         raise ValueError(f"unknown world family {family!r} (known: {', '.join(FAMILIES)})")
     ref = reference_profile(robot) if reference is None else reference
     code, generate = FAMILIES[family]
-    rng = np.random.default_rng([seed, code])
     size = robot.test_arena
-    for _ in range(_WORLD_TRIES):
-        drawn = generate(size, rng)
-        world = World(drawn.size, drawn.obstacles, name=f"{family}-{seed}")
-        pairs = _solvable_pairs(world, family, seed, robot, ref, rng)
-        if len(pairs) == PAIRS_PER_WORLD:
-            return world, pairs
-    raise ValueError(f"{family} world {seed}: too few solvable start/goal pairs")
-
-
-def _solvable_pairs(
-    world: World, family: str, seed: int, robot: RobotProfile, ref: RobotProfile,
-    rng: np.random.Generator,
-) -> list[BenchPair]:
-    """Up to ``PAIRS_PER_WORLD`` pairs of ``world`` (module docstring), in drawing order."""
-    longest = FEASIBLE_SHARE * PAPER_LIMIT * top_pace(ref)
-    drawn = solvable_pairs(world, robot, PAIRS_PER_WORLD, distance_range(robot, world.size),
-                           longest, rng)  # fmt: skip
-    return [BenchPair(family, seed, k, scenario, length, scaled_limit(length, ref))
-            for k, (scenario, length) in enumerate(drawn)]  # fmt: skip
+    world, drawn = world_with_pairs(
+        generate, size, f"{family}-{seed}", robot, PAIRS_PER_WORLD, distance_range(robot, size),
+        FEASIBLE_SHARE * PAPER_LIMIT * top_pace(ref), np.random.default_rng([seed, code]),
+    )  # fmt: skip
+    return world, [BenchPair(family, seed, k, scenario, length, scaled_limit(length, ref))
+                   for k, (scenario, length) in enumerate(drawn)]  # fmt: skip
 
 
 def build_suite(

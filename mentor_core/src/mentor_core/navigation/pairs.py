@@ -10,6 +10,7 @@ is kept when the shortest path of the body's circumscribed disc into the goal ra
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -20,6 +21,9 @@ from mentor_core.sim.world import Scenario, World
 
 BATCH = 64  # candidate pairs per draw
 ROUNDS = 40  # draws before a world counts as too crowded for its pairs
+WORLD_TRIES = 10  # worlds drawn before a layout counts as too crowded for its pairs
+#: share of a time limit the shortest path may take at the planner's top pace
+FEASIBLE_SHARE = 0.7
 
 
 def distance_range(robot: RobotProfile, size: float) -> tuple[float, float]:
@@ -63,3 +67,25 @@ def solvable_pairs(
             if len(found) == count:
                 return found
     return found
+
+
+def world_with_pairs(
+    generate: Callable[[float, np.random.Generator], World],
+    size: float,
+    name: str,
+    robot: RobotProfile,
+    count: int,
+    distances: tuple[float, float],
+    longest: float,
+    rng: np.random.Generator,
+) -> tuple[World, list[tuple[Scenario, float]]]:
+    """A world of side ``size`` from ``generate`` holding ``count`` :func:`solvable_pairs`,
+    world and pairs drawn from ``rng`` in turn; the world is drawn again, at most
+    ``WORLD_TRIES`` times, while it holds fewer. ValueError when none does."""
+    for _ in range(WORLD_TRIES):
+        drawn = generate(size, rng)
+        world = World(drawn.size, drawn.obstacles, name=name)
+        pairs = solvable_pairs(world, robot, count, distances, longest, rng)
+        if len(pairs) == count:
+            return world, pairs
+    raise ValueError(f"{name}: too few solvable start/goal pairs")

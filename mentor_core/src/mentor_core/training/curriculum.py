@@ -21,14 +21,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from mentor_core.navigation.pairs import distance_range, solvable_pairs
+from mentor_core.navigation.pairs import FEASIBLE_SHARE, distance_range, world_with_pairs
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile
-from mentor_core.sim.world import Scenario, World
+from mentor_core.sim.world import Scenario
 
 TRAINING_SEED_TAG = 7_000_001  # the first word of every training-world seed
-FEASIBLE_SHARE = 0.7  # of the cap, at the planner's top pace, as the benchmark's bound
-_WORLD_TRIES = 10
 
 
 def family_scenarios(
@@ -49,13 +47,7 @@ def family_scenarios(
             raise ValueError(f"unknown world family {family!r} (known: {', '.join(FAMILIES)})")
         code, generate = FAMILIES[family]
         rng = np.random.default_rng([TRAINING_SEED_TAG, seed, code])
-        for _ in range(_WORLD_TRIES):
-            drawn = generate(size, rng)
-            world = World(drawn.size, drawn.obstacles, name=f"{robot.name}-train-{family}-{seed}")
-            chosen = solvable_pairs(world, robot, pairs, distances, longest, rng)
-            if len(chosen) == pairs:
-                break
-        else:
-            raise ValueError(f"{family} training world {seed}: too few solvable pairs")
+        name = f"{robot.name}-train-{family}-{seed}"
+        _, chosen = world_with_pairs(generate, size, name, robot, pairs, distances, longest, rng)
         found += [scenario for scenario, _ in chosen]
     return found
