@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# The paper-scale study (issue 5): both robots x both frameworks x SEEDS, each best genome
-# evaluated on bags/unseen/<robot>, one report over everything.
-# Usage: scripts/study.sh [OUT_DIR] [SEEDS] [JOBS]     (default out/study, "1 2 3", 2)
-# Runs already finished are kept; interrupted ones resume.
+# The paper-scale study (issues 5 and 15): configs x both robots x both frameworks x SEEDS.
+# Every best genome is scored on the generalisation benchmark's TEST split (mentor-bench, 40
+# pairs per family, beside the VFH+ and Bug2 baselines and the oracle; seeds summarised as
+# mean +- sd) and on bags/unseen/<robot> (mentor-eval); one report over everything.
+# Usage: scripts/study.sh [OUT_DIR] [SEEDS] [JOBS] [CONFIGS]
+#   defaults: out/study, "1 2 3", 2, "original paper" (the paper's settings and the shipped
+#   ones; a CONFIGS word is a shipped config name or a YAML file, labelled by its stem).
+# Runs go to OUT/<config>/<robot>-<framework>-s<seed>; finished ones are kept, interrupted
+# ones resume. Nothing here chooses a setting: the test split and the bags are only reported.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
@@ -11,29 +16,38 @@ export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
 OUT="${1:-$ROOT/out/study}"
 SEEDS="${2:-1 2 3}"
 JOBS="${3:-2}"
+CONFIGS="${4:-original paper}"
+PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family
 BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
-train_one() {  # robot framework seed
-  local run="$OUT/$1-$2-s$3" resume=()
+label() { basename "${1%.yaml}"; }
+train_one() {  # config robot framework seed
+  local run="$OUT/$(label "$1")/$2-$3-s$4" resume=()
+  mkdir -p "$(dirname "$run")"
   [ -n "$(ls -A "$run" 2>/dev/null)" ] && resume=(--resume)
-  "$BIN/mentor-train" --robot "$1" --framework "$2" --config paper --seed "$3" --out "$run" \
+  "$BIN/mentor-train" --robot "$2" --framework "$3" --config "$1" --seed "$4" --out "$run" \
     --quiet "${resume[@]}" && echo "study: trained $run" >&2
 }
-export -f train_one
+export -f train_one label
 export OUT BIN
-for robot in ugv swarm; do for fw in single dual; do for s in $SEEDS; do
-  echo "$robot $fw $s"
+for config in $CONFIGS; do for robot in ugv swarm; do for fw in single dual; do
+  for s in $SEEDS; do echo "$config $robot $fw $s"; done
 done; done; done | xargs -P "$JOBS" -L 1 bash -c 'train_one "$@"' _
-evals=()
+extra=() runs=()
 for robot in ugv swarm; do
   genomes=() labels=()
-  for fw in single dual; do for s in $SEEDS; do
-    genomes+=("$OUT/$robot-$fw-s$s/best_genome.json"); labels+=(--label "$fw-s$s")
-  done; done
+  for config in $CONFIGS; do for fw in single dual; do for s in $SEEDS; do
+    run="$OUT/$(label "$config")/$robot-$fw-s$s"
+    genomes+=("$run/best_genome.json"); labels+=(--label "$(label "$config")-$fw-s$s")
+    runs+=("$run")
+  done; done; done
   # --force: an earlier study's evaluation in OUT is redone from its runs
   "$BIN/mentor-eval" "${genomes[@]}" "${labels[@]}" --bag "$ROOT/bags/unseen/$robot" \
     --out "$OUT/eval_unseen_$robot.json" --force > "$OUT/eval_unseen_$robot.txt"
-  evals+=(--eval "$OUT/eval_unseen_$robot.json")
+  rm -rf "$OUT/bench_$robot"
+  "$BIN/mentor-bench" "${genomes[@]}" "${labels[@]}" --robot "$robot" --split test \
+    --pairs-per-family "$PAIRS" --out "$OUT/bench_$robot" > "$OUT/bench_$robot.txt"
+  extra+=(--eval "$OUT/eval_unseen_$robot.json" --bench "$OUT/bench_$robot/bench.json")
 done
-"$BIN/mentor-report" "$OUT"/*-s*/ "${evals[@]}" --out "$OUT/report"
+"$BIN/mentor-report" "${runs[@]}" "${extra[@]}" --out "$OUT/report" --force
 echo "study: report at $OUT/report/report.md" >&2

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import copy
 import json
 from pathlib import Path
 
@@ -12,6 +13,7 @@ from mentor_core.benchmark.document import load_bench
 from mentor_core.cli.bench import main as bench_main
 from mentor_core.cli.report import main as report_main
 from mentor_core.errors import FileFormatError
+from mentor_core.report.bench import bench_markdown, seed_groups
 
 ROOT = Path(__file__).resolve().parents[1]
 UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
@@ -99,3 +101,24 @@ def test_out_must_not_be_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[st
                        "--out", str(target)]) == 2  # fmt: skip
     assert target.read_text() == "keep me"
     assert "not a directory" in capsys.readouterr().err
+
+
+def test_seeds_of_a_planner_are_summarised_beside_the_baselines(
+    bench_dir: Path, tmp_path: Path
+) -> None:
+    doc = load_bench(bench_dir / "bench.json")
+    evolved = doc["contenders"][0]
+    seeds = []
+    for seed, success in ((1, 0.5), (2, 1.0), (3, 0.0)):
+        c = copy.deepcopy(evolved)
+        c["name"] = f"dual-s{seed}"
+        for limit in ("paper", "scaled"):
+            c["scores"][limit]["overall"].update(success=success, spl=success / 2)
+        seeds.append(c)
+    lone = copy.deepcopy(evolved) | {"name": "other-s4"}  # one seed: no group
+    doc["contenders"] = [*seeds, lone, *doc["contenders"][1:]]
+    assert seed_groups(doc["contenders"]) == {"dual": [0, 1, 2]}
+    md = "\n".join(bench_markdown(doc, tmp_path))
+    assert "| family | dual (3 seeds) | vfh (baseline) | bug (baseline) | oracle (oracle) |" in md
+    # mean 50 %, sample sd 50 %; SPL 0.25 +- 0.25
+    assert "| **overall** | 50 ± 50 % / 0.25 ± 0.25 |" in md

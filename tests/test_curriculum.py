@@ -2,16 +2,22 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from mentor_core.benchmark.suite import SPLITS, world_pairs
 from mentor_core.errors import ConfigError
+from mentor_core.evolution.genome import minimal_genome
+from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.navigation.pairs import distance_range
 from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.world import Scenario
 from mentor_core.training.config import TrainerConfig
-from mentor_core.training.curriculum import family_scenarios
+from mentor_core.training.curriculum import drivable_length, family_scenarios, unseen_distances
 from mentor_core.training.trainer import make_problem
 
 FAMILIES = ("rooms", "slalom", "traps", "maze")
@@ -27,7 +33,8 @@ def test_family_pairs_are_solvable_at_test_distances_and_seeded(robot: str) -> N
     assert len(pairs) == 12
     assert [(p.start, p.goal) for p in pairs] == [(p.start, p.goal) for p in again]
     assert [p.start for p in pairs] != [p.start for p in other]
-    d_min, d_max = distance_range(profile, profile.train_arena)
+    d_min, d_max = unseen_distances(profile, planner)
+    assert (d_min, d_max) == distance_range(profile, profile.test_arena)  # not cut here
     for p in pairs:
         assert p.world.size == profile.train_arena
         d = float(np.hypot(p.goal[0] - p.start[0], p.goal[1] - p.start[1]))
@@ -56,9 +63,48 @@ def test_config_adds_the_family_pairs_to_the_doe_scenarios() -> None:
     assert TrainerConfig.from_dict(config.to_dict()) == config
 
 
+def _straight(scenarios: Sequence[Scenario]) -> NDArray[np.float64]:
+    return np.array([np.hypot(s.goal[0] - s.start[0], s.goal[1] - s.start[1])
+                     for s in scenarios])  # fmt: skip
+
+
+def test_doe_pairs_at_the_test_distances() -> None:
+    # issue 15, point 4: the shipped UGV (0.5 m steps) trained on 2-6.25 m, tested on 3-17 m
+    base = {"robot": "ugv", "n_scenarios": 40, "step_max": 0.5, "generations": 2,
+            "stage1_generations": 1}  # fmt: skip
+    paper = make_problem(TrainerConfig.from_dict(base))
+    test = make_problem(TrainerConfig.from_dict({**base, "pair_distances": "test"}))
+    ugv = get_profile("ugv")
+    lo, hi = unseen_distances(ugv, test.profile)
+    assert (lo, hi) == (3.0, pytest.approx(12.0 * np.sqrt(2.0)))
+    assert hi <= drivable_length(test.profile) == pytest.approx(0.7 * 50.0 * 0.5)
+    d_paper, d_test = _straight(paper.scenarios), _straight(test.scenarios)
+    assert d_paper.min() >= 2.0 * ugv.goal_radius and d_paper.max() <= 6.25
+    assert d_test.min() >= lo and d_test.max() <= hi
+    assert (d_test > 6.25).mean() > 0.4  # most of the test's range lies beyond the paper's
+    assert paper.scenarios[0].world.obstacles.tobytes() == test.scenarios[0].world.obstacles.tobytes()
+
+
+def test_one_time_budget_for_every_training_scenario() -> None:
+    base = {"robot": "swarm", "n_scenarios": 6, "generations": 2, "stage1_generations": 1}
+    paper = make_problem(TrainerConfig.from_dict(base))
+    fixed = make_problem(TrainerConfig.from_dict({**base, "time_budget": 50.0}))
+    genome = minimal_genome(
+        paper.n_inputs, 2, InnovationTracker(paper.n_inputs + 3), np.random.default_rng(0)
+    )
+    per_pair = paper.simulate([genome]).time_budget
+    assert np.array_equal(per_pair, paper.profile.time_budgets(
+        [s.start for s in paper.scenarios], [s.goal for s in paper.scenarios]))  # fmt: skip
+    assert (per_pair < 50.0).any()
+    assert np.array_equal(fixed.simulate([genome]).time_budget, np.full(6, 50.0))
+
+
 @pytest.mark.parametrize(
     ("extra", "key"),
     [
+        ({"pair_distances": "far"}, "pair_distances"),
+        ({"time_budget": 0}, "time_budget"),
+        ({"time_budget": "50"}, "time_budget"),
         ({"families": ["rooms", "castles"]}, "families"),
         ({"families": ["rooms", "rooms"]}, "families"),
         ({"families": "rooms"}, "families"),

@@ -7,14 +7,18 @@
   wins in each family shows at a glance;
 * :func:`example_trajectories` -- one pair per family, every planner's trajectory on it,
   each ending in a dot (reached), a cross (collided) or a circle (timed out);
+* :func:`seed_groups` -- evolved planners labelled ``<name>-s<seed>`` grouped by name, for
+  the tables of their mean and spread over seeds;
 * :func:`bench_markdown` -- both figures and the tables (success and SPL per family under
-  each time limit; every score overall) as Markdown lines.
+  each time limit, per planner and, where a name has several seeds, its mean +- sd beside
+  the baselines; every score overall) as Markdown lines.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+import re
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +34,7 @@ _PALETTES = {"evolved": ("tab:blue", "tab:cyan", "tab:purple", "navy", "steelblu
              "baseline": ("tab:orange", "tab:green", "tab:brown", "gold"),
              "oracle": ("0.45", "0.2")}  # fmt: skip
 _ENDS = {"reached": "o", "collided": "x", "timed out": "$\\circ$"}
+_SEEDED = re.compile(r"^(?P<name>.+)-s(?P<seed>\d+)$")
 LIMIT_TITLES = {"paper": "the paper's 50 s", "scaled": "the limit scaled to the shortest path"}
 
 
@@ -121,6 +126,47 @@ def _none_nan(x: Any) -> float:
     return math.nan if x is None else float(x)
 
 
+def seed_groups(contenders: Sequence[Mapping[str, Any]]) -> dict[str, list[int]]:
+    """Indices of the evolved contenders named ``<name>-s<seed>``, by name, for names with
+    at least two seeds (in first-seen order)."""
+    groups: dict[str, list[int]] = {}
+    for i, c in enumerate(contenders):
+        match = _SEEDED.match(str(c["name"]))
+        if c["kind"] == "evolved" and match:
+            groups.setdefault(match["name"], []).append(i)
+    return {name: idx for name, idx in groups.items() if len(idx) > 1}
+
+
+def _spread(values: Sequence[float], percent: bool) -> str:
+    """``mean +- sd`` (sample sd, ``ddof=1``) of the finite values."""
+    v = np.asarray([x for x in values if math.isfinite(x)], dtype=np.float64)
+    if v.size == 0:
+        return "-"
+    mean, sd = float(v.mean()), float(v.std(ddof=1)) if v.size > 1 else 0.0
+    return f"{100 * mean:.0f} ± {100 * sd:.0f} %" if percent else f"{mean:.2f} ± {sd:.2f}"
+
+
+def _seed_table(doc: Mapping[str, Any], limit: str) -> list[str]:
+    """Success / SPL per family: each seed group's mean +- sd, then the other contenders
+    that are not evolved (the baselines and the oracle)."""
+    contenders = doc["contenders"]
+    groups = seed_groups(contenders)
+    others = [c for c in contenders if c["kind"] != "evolved"]
+    header = ["family", *(f"{name} ({len(idx)} seeds)" for name, idx in groups.items()),
+              *(f"{c['name']} ({c['kind']})" for c in others)]  # fmt: skip
+    rows = []
+    for group in [*doc["families"], "overall"]:
+        cells = [f"**{group}**" if group == "overall" else group]
+        for idx in groups.values():
+            scores = [contenders[i]["scores"][limit][group] for i in idx]
+            cells.append(_spread([_none_nan(t["success"]) for t in scores], True) + " / "
+                         + _spread([_none_nan(t["spl"]) for t in scores], False))
+        cells += [f"{_pct(_none_nan(c['scores'][limit][group]['success']))} / "
+                  f"{_fmt(_none_nan(c['scores'][limit][group]['spl']), 2)}" for c in others]
+        rows.append(cells)
+    return _md_table(header, rows)
+
+
 def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "bench",
                    heading: str = "##") -> list[str]:
     """Write the figures into ``out_dir`` (``<prefix>_success.png``, ``<prefix>_success_
@@ -145,6 +191,11 @@ def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "b
         md += [f"Within {LIMIT_TITLES[limit]}:", ""]
         md += _md_table(header, _cells(doc, limit, lambda s: (
             f"{_pct(_none_nan(s['success']))} / {_fmt(_none_nan(s['spl']), 2)}")))
+    if seed_groups(doc["contenders"]):
+        for limit in ("paper", "scaled"):
+            md += [f"Planners over their seeds (`<name>-s<seed>`; mean ± sample sd of the "
+                   f"seeds' rates), within {LIMIT_TITLES[limit]}:", ""]
+            md += _seed_table(doc, limit)
     md += [f"![success per family]({prefix}_success.png)", "",
            f"![success per family, scaled limit]({prefix}_success_scaled.png)", ""]
     rows = []

@@ -306,6 +306,7 @@ def training_scenarios(
     n: int | None = None,
     cfg: DoEConfig | None = None,
     worlds: int = 1,
+    distances: tuple[float, float] | None = None,
 ) -> list[Scenario]:
     """The training DoE: ``worlds`` composite worlds of side ``profile.train_arena`` and ``n``
     start/goal pairs spread over them (the paper: one world).
@@ -314,7 +315,8 @@ def training_scenarios(
     more for ``j < n % worlds``, listed world by world. The seed's generator spawns two
     children, one for the first world and one for its pairs, then two more per further world,
     so the first world does not depend on ``worlds`` nor on ``n``, and with one world the first
-    k scenarios are the same for every ``n >= k``.
+    k scenarios are the same for every ``n >= k``. ``distances`` is the straight start-goal
+    range ``(min, max)``, m (None: :func:`sample_scenarios`' defaults).
     """
     count = profile.train_scenarios if n is None else n
     if worlds < 1:
@@ -329,5 +331,6 @@ def training_scenarios(
         suffix = "" if j == 0 else f"-world{j}"
         named = World(world.size, world.obstacles, name=f"{profile.name}-train-seed{seed}{suffix}")
         pairs = count // worlds + (j < count % worlds)
-        found += sample_scenarios(named, profile, pairs, rngs[2 * j + 1])
+        lo, hi = (None, None) if distances is None else distances
+        found += sample_scenarios(named, profile, pairs, rngs[2 * j + 1], lo, hi)
     return found

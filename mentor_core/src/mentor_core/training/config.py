@@ -37,6 +37,7 @@ from mentor_core.validation import (
 )
 
 Framework = Literal["single", "dual"]
+PairDistances = Literal["paper", "test"]
 #: a seed of numpy's generators: a whole number >= 0
 Seed = Annotated[Int, Field(ge=0)]
 
@@ -75,6 +76,15 @@ class TrainerConfig:
     (mentor_core.training.curriculum); none by default, as in the paper."""
     family_pairs: Annotated[Int, Field(ge=1)] = 5
     """Start/goal pairs in each family's training world."""
+    pair_distances: PairDistances = "paper"
+    """Straight start-goal distances of the DoE training pairs: "paper" (from two goal radii
+    to the planner's uncapped distance, where the time-budget cap does not cut a straight run
+    at its rated speed; 2-6.25 m for a UGV stepping 0.5 m) or "test" (the unseen test's,
+    mentor_core.navigation.pairs.distance_range at the test arena, at most what the planner
+    can drive within the cap; 3-17 m for the UGV); see docs/algorithm.md "Training worlds"."""
+    time_budget: Annotated[Float, Field(gt=0.0)] | None = None
+    """Time budget of every training scenario, s (null: the paper's T_tot = min(cap, slack d /
+    rated speed), per scenario; the benchmark and the unseen test give every pair 50 s)."""
     input_encoding: InputEncoding = "egocentric"
     """The network's goal inputs, "egocentric" or "paper" (mentor_core.sim.observation);
     written into the best genome's metadata so that the planner node and mentor-eval feed the

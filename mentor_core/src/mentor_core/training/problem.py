@@ -47,7 +47,11 @@ class Evaluation:
 
 
 class NavigationProblem:
-    """Evaluate planners (genomes) on a fixed list of scenarios in one world."""
+    """Evaluate planners (genomes) on a fixed list of scenarios in one world.
+
+    ``time_budget`` (s) gives every scenario that budget T_tot; None keeps the paper's
+    (:meth:`~mentor_core.sim.robots.RobotProfile.time_budget`).
+    """
 
     def __init__(
         self,
@@ -55,12 +59,15 @@ class NavigationProblem:
         scenarios: Sequence[Scenario],
         *,
         with_experience: bool = True,
+        time_budget: float | None = None,
     ) -> None:
         if not scenarios:
             raise ValueError("a NavigationProblem needs at least one scenario")
         self.profile = profile
         self.scenarios = tuple(scenarios)
         self.with_experience = with_experience
+        # one T_tot for every scenario (s); None: the paper's per-scenario budget
+        self.time_budget = time_budget
 
     @property
     def n_inputs(self) -> int:
@@ -83,7 +90,10 @@ class NavigationProblem:
         def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
             return network.activate(inputs, robots // n_scen)
 
-        return run_episodes(list(self.scenarios) * len(genomes), self.profile, policy)
+        return run_episodes(
+            list(self.scenarios) * len(genomes), self.profile, policy,
+            time_budgets=self.time_budget,
+        )  # fmt: skip
 
     def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
         """Objectives (F, G) and outcome rates of each genome; G is 0 without experience."""

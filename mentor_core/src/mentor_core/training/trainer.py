@@ -34,7 +34,7 @@ from mentor_core.objectives.complexity import flops_ratio
 from mentor_core.sim.robots import RobotProfile, get_profile, sensor_record, with_planner
 from mentor_core.sim.scenarios import DoEConfig, training_scenarios
 from mentor_core.training.config import TrainerConfig
-from mentor_core.training.curriculum import family_scenarios
+from mentor_core.training.curriculum import family_scenarios, unseen_distances
 from mentor_core.training.evaluators import Evaluator, InProcessEvaluator
 from mentor_core.training.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
 from mentor_core.training.run_directory import RunDirectory, open_run
@@ -81,8 +81,9 @@ def make_problem(
     ConfigError naming ``source`` (the config file) for planner settings outside the robot's
     own ranges and more training worlds than scenarios."""
     limit = config.heading_change_max_deg
+    robot = profile or get_profile(config.robot)
     prof = with_planner(
-        profile or get_profile(config.robot),
+        robot,
         input_encoding=config.input_encoding,
         heading_change_max=None if limit is None else math.radians(limit),
         step_max=config.step_max,
@@ -97,18 +98,20 @@ def make_problem(
             key="training_worlds",
             path=source,
         )
+    distances = unseen_distances(robot, prof) if config.pair_distances == "test" else None
     scenarios = training_scenarios(
-        prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds
-    )
+        prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds,
+        distances=distances,
+    )  # fmt: skip
     if config.families:
         try:
             scenarios += family_scenarios(
-                profile or get_profile(config.robot), prof, config.families,
+                robot, prof, config.families,
                 config.family_pairs, config.scenario_seed,
             )  # fmt: skip
         except ValueError as err:
             raise ConfigError(str(err), key="families", path=source) from None
-    return NavigationProblem(prof, scenarios)
+    return NavigationProblem(prof, scenarios, time_budget=config.time_budget)
 
 
 class _Run:
