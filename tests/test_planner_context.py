@@ -154,8 +154,8 @@ def test_each_robot_carries_its_own_context() -> None:
     for i, sc in enumerate(SCENARIOS):
         alone = run_episodes([sc], profile, policy)
         np.testing.assert_array_equal(alone.experience[0], together.experience[i])
-        np.testing.assert_array_equal(alone.trajectories[0],
-                                      together.trajectories[i, : alone.trajectories.shape[1]])  # fmt: skip
+        steps = alone.trajectories.shape[1]
+        np.testing.assert_array_equal(alone.trajectories[0], together.trajectories[i, :steps])
 
 
 def test_a_planner_that_failed_to_decide_keeps_its_context() -> None:
