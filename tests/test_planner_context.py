@@ -9,11 +9,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from memory_support import latch
 
 from mentor_core.benchmark.contenders import hand_written
 from mentor_core.benchmark.suite import reference_profile
 from mentor_core.errors import ConfigError
-from mentor_core.evolution.genome import Genome, genome_from_edges, minimal_genome
+from mentor_core.evolution.genome import Genome, minimal_genome
 from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata, save_genome
@@ -34,20 +35,6 @@ SCENARIOS = [
     Scenario(WORLD, (3.5, 3.5, -2.0), (0.5, 1.0)),
 ]
 S = 1_000_000_000  # ns per s
-
-
-def latch(profile: RobotProfile) -> Genome:
-    """Memory output m_1 = reading 0 (identity activation); turn output o_1 = the memory
-    input (m_1 of the previous decision); step output o_2 = 0.5: the turn at step t reads the
-    first sensor at step t - 1."""
-    memory_in = profile.n_inputs - 1
-    bias = profile.n_inputs
-    turn, step, memory_out = bias + 1, bias + 2, bias + 3
-    return genome_from_edges(
-        profile.n_inputs, profile.n_outputs,
-        [(memory_in, turn, 1.0), (bias, step, 0.5), (0, memory_out, 1.0)],
-        output_activation="identity",
-    )  # fmt: skip
 
 
 def random_genome(profile: RobotProfile, seed: int) -> Genome:
