@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist
+from memory_support import latch
 from nav_msgs.msg import Odometry
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
-from memory_support import latch
 from ros_support import REGRESSION, Graph, params, run_executable
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
