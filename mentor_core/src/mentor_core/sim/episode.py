@@ -250,7 +250,8 @@ def _run_world(
         idx = np.flatnonzero(active)
         seen = ranges[idx]
         aims = goals[idx] if input_goals is None else _aims(input_goals, engine.poses[idx], idx)
-        inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile, context[idx])
+        past = context[idx] if profile.n_context else None  # the paper's planner: no context
+        inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile, past)
         outputs = np.asarray(policy(inputs, idx), dtype=np.float64)
         outputs = outputs.reshape(idx.size, profile.n_outputs)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)
