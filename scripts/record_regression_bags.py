@@ -71,6 +71,7 @@ def choose(
         for i in range(len(runs), count):
             sc = candidates[i]
             setup = RobotSetup(NAMESPACE, profile, sc.start, sc.goal, i)
+            planner.reset()  # each episode starts blank (a planner with a memory)
             trace = run_reference_episode(world, [setup], {NAMESPACE: planner.decide})
             runs.append((trace[NAMESPACE].steps, i, trace[NAMESPACE].outcome))
         if len({kind for _, _, kind in runs}) == 3 or count >= MAX_CANDIDATES:

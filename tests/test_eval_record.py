@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from memory_support import latch
 
 from mentor_core.cli.evaluate import main as mentor_eval
 from mentor_core.errors import ConfigError
@@ -15,8 +16,9 @@ from mentor_core.files.bags import read_episode_bag, read_scenario_bag
 from mentor_core.files.genome_file import save_genome
 from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.runtime.recording import record_planners, recorded_episodes
+from mentor_core.runtime.simulator import RobotSetup, run_reference_episode
 from mentor_core.sim.observation import action_from_twist
-from mentor_core.sim.robots import get_profile, sensor_record
+from mentor_core.sim.robots import get_profile, sensor_record, with_planner
 
 ROOT = Path(__file__).resolve().parents[1]
 UNSEEN_SWARM = ROOT / "bags" / "unseen" / "swarm"
@@ -73,6 +75,22 @@ def test_recorded_episodes_are_the_reference_episodes(tmp_path: Path) -> None:
         back = [action_from_twist(c.angular_z, c.linear_x, 1.0) for c in run.commands]
         np.testing.assert_allclose(np.array(back, dtype=float), trace.decisions, atol=1e-15)
     assert {t.outcome for t in traces["robot_0"]} <= {"reached", "collided", "timed_out"}
+
+
+def test_a_planner_with_a_memory_starts_every_recorded_episode_blank() -> None:
+    world, scenarios, _, _ = read_scenario_bag(UNSEEN_SWARM)
+    profile = with_planner(SWARM, memory_units=1)
+    planner = GenomePlanner(latch(profile), profile)
+    _, traces = record_planners(
+        world, SWARM, {"robot_0": planner.decide}, scenarios[:3], 5.0,
+        resets={"robot_0": planner.reset},
+    )  # fmt: skip
+    fresh = [run_reference_episode(world, [RobotSetup("r", SWARM, sc.start, sc.goal, k, 5.0)],
+                                   {"r": GenomePlanner(latch(profile), profile).decide})["r"]
+             for k, sc in enumerate(scenarios[:3])]  # fmt: skip
+    for trace, alone in zip(traces["robot_0"], fresh, strict=True):
+        np.testing.assert_array_equal(trace.decisions, alone.decisions)
+        assert trace.decisions[0, 0] == -np.pi  # a blank memory: a full right turn first
 
 
 def test_mentor_eval_records_a_bag_and_never_overwrites_one(

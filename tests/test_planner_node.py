@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist
+from memory_support import latch
 from nav_msgs.msg import Odometry
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
@@ -21,11 +22,12 @@ from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
 from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.files.genome_file import save_genome
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.wiring import Wiring, wire_pose
 from mentor_core.sim.lidar import LidarSpec, lidar_scan
 from mentor_core.sim.pymunk_world import PymunkWorld
-from mentor_core.sim.robots import get_profile
+from mentor_core.sim.robots import get_profile, with_planner
 from mentor_core.sim.scan_adapter import LidarMount, readings_from_scan
 from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import World
@@ -217,6 +219,32 @@ def _answered(graph: Graph, robot: Robot, planner: PlannerNode, k: int, ranges: 
     assert graph.spin_until(lambda: robot.observe(k * 10**9, ranges, pose)
                             or len(robot.commands) > k)
     return robot.commands[k]
+
+
+def test_a_planner_with_memory_reads_its_last_answer_and_starts_each_goal_blank(
+    graph: Graph, tmp_path: Path
+) -> None:
+    genome = tmp_path / "latch.json"
+    save_genome(latch(with_planner(SWARM, memory_units=1)), genome, metadata={"memory_units": 1})
+    planner = _planner(graph, genome=str(genome))
+    robot = Robot(graph)
+    reference = GenomePlanner.load(genome, "swarm")
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    pose = (1.0, 1.0, 0.0)
+    seen = [[0.31, 0.5, 0.45], [0.12, 0.4, 0.2], [0.55, 0.1, 0.3]]
+    wire = [[float(np.float32(r)) for r in ranges] for ranges in seen]
+    previous = [0.0] + [ranges[0] for ranges in wire]  # the memory each answer reads
+    for k, ranges in enumerate(seen):
+        got = _answered(graph, robot, planner, k, ranges, pose)
+        graph.spin_for(0.1)  # repeats (as lockstep resends) are not answered, nor remembered
+        assert len(robot.commands) == k + 1
+        # the turn reads the first reading of the answer before (a full right turn at first)
+        assert got.angular.z == math.pi * (2.0 * previous[k] - 1.0)
+        assert (got.linear.x, got.angular.z) == reference.command(wire[k], pose, (3.0, 2.5))
+    # a new goal: the same observation answered again, from a blank memory
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((2.0, 3.0), Time()))
+    assert graph.spin_until(lambda: len(robot.commands) > len(seen))
+    assert robot.commands[-1].angular.z == -math.pi
 
 
 def test_a_goal_from_a_plain_publisher_on_goal_pose_is_taken(graph: Graph) -> None:

@@ -18,12 +18,13 @@ from matplotlib.image import imread
 
 from mentor_core.cli.report import main as report_main
 from mentor_core.errors import ConfigError, FileFormatError
-from mentor_core.evolution.genome import ConnectionGene, Genome, NodeGene
+from mentor_core.evolution.genome import ConnectionGene, Genome, NodeGene, genome_from_edges
 from mentor_core.evolution.genome_codec import genome_to_dict
 from mentor_core.files.genome_file import save_genome
 from mentor_core.report.figures import (
     complexity_bins,
     niche_share_matrix,
+    node_labels,
     node_layers,
     pareto_front,
     topology,
@@ -366,6 +367,15 @@ def test_figures_are_figures() -> None:
     fig = pareto_front([[1.0, 2.0], [2.0, 1.0], [0.5, 0.5]], [0, 1])
     assert isinstance(fig, Figure)
     assert isinstance(topology(make_genome(np.random.default_rng(2))), Figure)
+
+
+def test_the_nodes_of_a_planner_with_a_memory_are_named() -> None:
+    genome = genome_from_edges(10, 4, [(9, 11, 1.0), (0, 14, 1.0)])  # 3 sensors, 2 + 2 units
+    labels = node_labels(genome, "egocentric", feedback_action=True)
+    assert [labels[i] for i in range(11)] == [
+        "r0", "r1", "r2", "cos β", "sin β", "S", "Δθ⁻", "Δs⁻", "m1⁻", "m2⁻", "bias"]
+    assert [labels[o] for o in genome.output_ids] == ["Δθ", "Δs", "m1", "m2"]
+    assert isinstance(topology(genome, encoding="egocentric", feedback_action=True), Figure)
 
 
 def test_a_genome_trained_with_other_sensors_is_refused(

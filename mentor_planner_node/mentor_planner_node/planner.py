@@ -12,7 +12,8 @@ It answers every new observation (a scan and an odometry with the same stamp) wi
 ``cmd_vel`` (lockstep), or decides every control period with the latest one
 (``decide_on_timer``, for a simulator or robot that runs continuously). The decision is
 :class:`mentor_core.GenomePlanner`, the trainer's own input and output functions; when to
-decide, when the goal is reached and when data is stale is :class:`mentor_core.DecisionGate`.
+decide, when the goal is reached and when data is stale is :class:`mentor_core.DecisionGate`;
+a planner with a memory is reset at the first observation of each new goal or episode.
 A watchdog on the steady clock sends a zero Twist with a throttled warning when no observation
 could be answered for ``stale_timeout`` wall s, also when sim time stops. A corrupt genome or
 an unknown profile is one line on stderr and exit status 2.
@@ -296,6 +297,8 @@ class PlannerNode(Node):
         if self.planner is None:
             self._send_zero("no genome loaded")
             return
+        if obs.new_goal:  # a planner with a memory starts each goal blank, as in training
+            self.planner.reset()
         try:
             decide = self.planner.decide if self.global_plan is None else self.global_plan.decide
             dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)

@@ -6,7 +6,9 @@ The baselines and the oracle are policies of the same kind as an evolved network
 inputs, ``mentor_core.sim.observation.network_inputs``) once per control period and answer
 outputs in ``[0, 1]`` that the engine turns into actions with the same function
 (``actions_from_outputs``: the heading limit, the step range and the clearance rule). So they
-have the same sensors, action limits and control period as the evolved planners.
+have the same sensors, action limits and control period as the evolved planners. They have no
+memory: a profile with a context (``feedback_action``, ``memory_units``) gives them extra
+inputs after the goal inputs, which they do not read, and they answer zero memory outputs.
 
 Odometry: a robot knows the actions it took, and the engine moves it along exactly that arc
 (``mentor_core.sim.kinematics.unicycle_arc``) unless the decision ends the episode (goal or
@@ -29,19 +31,23 @@ IntArray = NDArray[np.int64]
 
 
 def outputs_for(dtheta: ArrayLike, ds: ArrayLike, profile: RobotProfile) -> FloatArray:
-    """Network outputs ``(m, 2)`` that ``actions_from_outputs`` maps onto ``(dtheta, ds)``
-    (rad, m), each clipped into the profile's range first:
-    ``o_1 = (dtheta / h + 1) / 2``, ``o_2 = (ds - step_min) / (step_max - step_min)``."""
+    """Network outputs ``(m, profile.n_outputs)`` that ``actions_from_outputs`` maps onto
+    ``(dtheta, ds)`` (rad, m), each clipped into the profile's range first:
+    ``o_1 = (dtheta / h + 1) / 2``, ``o_2 = (ds - step_min) / (step_max - step_min)``, and
+    zero memory outputs."""
     h = profile.heading_change_max
     span = profile.step_max - profile.step_min
     o1 = 0.5 * (np.clip(np.asarray(dtheta, dtype=np.float64) / h, -1.0, 1.0) + 1.0)
     ds_ = np.asarray(ds, dtype=np.float64)
     o2 = np.clip((ds_ - profile.step_min) / span, 0.0, 1.0) if span > 0 else np.zeros_like(ds_)
-    return np.stack([np.broadcast_to(o1, np.shape(o2)), o2], axis=-1).reshape(-1, 2)
+    actions = np.stack([np.broadcast_to(o1, np.shape(o2)), o2], axis=-1).reshape(-1, 2)
+    if not profile.memory_units:
+        return actions
+    return np.concatenate([actions, np.zeros((len(actions), profile.memory_units))], axis=1)
 
 
 def readings(inputs: ArrayLike, profile: RobotProfile) -> FloatArray:
-    """The clipped range readings ``(m, k)`` (m) in network inputs ``(m, k + 3)``."""
+    """The clipped range readings ``(m, k)`` (m) in network inputs ``(m, n_inputs)``."""
     return np.asarray(inputs, dtype=np.float64)[:, : profile.n_sensors]
 
 

@@ -44,6 +44,8 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         "step_min": profile.step_min,
         "step_max": profile.step_max,
         "clearance_margin": profile.clearance_margin,
+        "feedback_action": profile.feedback_action,
+        "memory_units": profile.memory_units,
     }
 
 

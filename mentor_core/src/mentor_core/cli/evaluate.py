@@ -155,7 +155,7 @@ def record(
     scenarios: list[Scenario],
     time_limit: float,
     runs: list[tuple[str, str, Assessment]],
-    planners: list[Decide],
+    planners: list[GenomePlanner | GuidedPlanner],
     numbers: list[int],
     force: bool = False,
 ) -> None:
@@ -167,8 +167,12 @@ def record(
     episode) is reported on stderr. ``numbers``: the scenarios' numbers in their source;
     ``force``: replace an existing bag at ``path``.
     """
-    decide = dict(zip((f"robot_{i}" for i in range(len(planners))), planners, strict=True))
-    recorder, traces = record_planners(world, profile, decide, scenarios, time_limit, numbers)
+    names = [f"robot_{i}" for i in range(len(planners))]
+    decide: dict[str, Decide] = {ns: p.decide for ns, p in zip(names, planners, strict=True)}
+    resets = {ns: p.reset for ns, p in zip(names, planners, strict=True)}  # each episode blank
+    recorder, traces = record_planners(
+        world, profile, decide, scenarios, time_limit, numbers, resets
+    )
     labels = {f"robot_{i}": label for i, (label, _, _) in enumerate(runs)}
     recorder.save(
         path, profile, {"genomes": labels, "time_limit": time_limit}, overwrite=force
@@ -184,14 +188,16 @@ def record(
     print(f"mentor-eval: recorded {recorder.n_episodes} episodes in {path}", file=sys.stderr)
 
 
-def _decide(plain: GenomePlanner, guide: GuideConfig, world: World, guided: bool) -> Decide:
-    """The decision function recorded for a run: the plain planner's, or the guided one's
-    planning on ``world``'s grid."""
+def _planner(
+    plain: GenomePlanner, guide: GuideConfig, world: World, guided: bool
+) -> GenomePlanner | GuidedPlanner:
+    """The planner recorded for a run: the plain one, or the guided one planning on
+    ``world``'s grid."""
     if not guided:
-        return plain.decide
+        return plain
     planner = GuidedPlanner(plain, guide)
     planner.set_map(world_grid(world, guide.resolution))
-    return planner.decide
+    return planner
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -280,7 +286,7 @@ def main(argv: list[str] | None = None) -> int:
         numbers, skipped = runnable(profile, world, scenarios, source)
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
-        planners: list[Decide] = []
+        planners: list[GenomePlanner | GuidedPlanner] = []
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
@@ -300,7 +306,7 @@ def main(argv: list[str] | None = None) -> int:
                 runs.append((run_label, str(path), assessment))
                 if args.record is not None:
                     plain = GenomePlanner(genome, planner, str(path))
-                    planners.append(_decide(plain, guide, world, guided))
+                    planners.append(_planner(plain, guide, world, guided))
         if args.record is not None:
             record(args.record, profile, world, chosen, args.time_limit, runs, planners,
                    numbers, args.force)  # fmt: skip

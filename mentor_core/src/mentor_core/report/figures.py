@@ -205,18 +205,24 @@ def complexity_boxplots(
     return fig
 
 
-def node_labels(genome: Genome, encoding: str = "paper") -> dict[int, str]:
+def node_labels(
+    genome: Genome, encoding: str = "paper", feedback_action: bool = False
+) -> dict[int, str]:
     """Readable node names: range sensors r0.., the goal inputs of the encoding (dX, dY,
-    heading; or cos β, sin β, S), bias, dtheta, ds, h<id>."""
+    heading; or cos β, sin β, S), the context a planner with a memory reads (its previous
+    action outputs Δθ⁻, Δs⁻ with ``feedback_action``, its memory m1⁻.., one per output beyond
+    the two actions), bias, dtheta, ds, the memory outputs m1.., h<id>."""
     labels: dict[int, str] = {}
     n_in = genome.n_inputs
+    memory = [f"m{j + 1}" for j in range(max(genome.n_outputs - 2, 0))]
     goal = ["cos β", "sin β", "S"] if encoding == "egocentric" else ["dX", "dY", "θ"]
-    tail = goal if n_in >= 3 else []
+    context = (["Δθ⁻", "Δs⁻"] if feedback_action else []) + [f"{m}⁻" for m in memory]
+    tail = goal + context if n_in >= 3 + len(context) else []
     for i in range(n_in):
         j = i - (n_in - len(tail))
         labels[i] = tail[j] if j >= 0 else f"r{i}"
     labels[genome.bias_id] = "bias"
-    outs = ["Δθ", "Δs"] if genome.n_outputs == 2 else []
+    outs = ["Δθ", "Δs", *memory] if genome.n_outputs >= 2 else []
     for k, o in enumerate(genome.output_ids):
         labels[o] = outs[k] if outs else f"out{k}"
     for n in genome.hidden_nodes:
@@ -277,7 +283,8 @@ def _node_positions(genome: Genome) -> dict[int, tuple[float, float]]:
 
 
 def topology(
-    genome: Genome, title: str = "", table: bool = True, encoding: str = "paper"
+    genome: Genome, title: str = "", table: bool = True, encoding: str = "paper",
+    feedback_action: bool = False,
 ) -> Figure:
     """The network of a genome with (if ``table``) its connection genes in a table beneath.
 
@@ -286,7 +293,7 @@ def topology(
     negative; disabled genes dotted grey.
     """
     pos = _node_positions(genome)
-    labels = node_labels(genome, encoding)
+    labels = node_labels(genome, encoding, feedback_action)
     kinds = {n.id: n.kind for n in genome.nodes}
     n_rows = len(genome.connections)
     table = table and 0 < n_rows <= TABLE_MAX_GENES

@@ -206,7 +206,8 @@ def write_report(
             fig = complexity_boxplots(cx, fx, title=f"{r.label}: final population")
             md += [f"![performance vs complexity]({save(fig, f'{tag}_complexity.png')})", ""]
             g = r.best_genome
-            fig = topology(g, title=f"{r.label}: best genome", encoding=r.input_encoding)
+            fig = topology(g, title=f"{r.label}: best genome", encoding=r.input_encoding,
+                           feedback_action=r.feedback_action)  # fmt: skip
             md += [f"![topology]({save(fig, f'{tag}_topology.png')})", ""]
             md += [
                 f"Best genome: {g.n_inputs} inputs + bias, {g.n_outputs} outputs, "
@@ -215,7 +216,7 @@ def write_report(
                 "",
             ]
             md += ["<details><summary>genome tables</summary>", ""]
-            md += genome_tables(g, r.input_encoding)
+            md += genome_tables(g, r.input_encoding, r.feedback_action)
             md += ["</details>", ""]
 
     if evals:

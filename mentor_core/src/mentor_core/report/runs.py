@@ -48,6 +48,7 @@ class RunData:
     pareto_stage: int
     best_genome: Genome
     input_encoding: str = "paper"  # of the best genome (its metadata)
+    feedback_action: bool = False  # of the best genome (its metadata)
 
     @property
     def label(self) -> str:
@@ -197,7 +198,7 @@ def load_run(run_dir: str | Path) -> RunData:
     genome, genome_meta = load_genome_and_metadata(paths.best_genome)
     # a genome trained with other sensors than the robot file's now is refused (ConfigError
     # naming the file), as mentor-eval and the planner node refuse it
-    planner_profile(get_profile(str(config["robot"])), genome_meta, paths.best_genome)
+    planner = planner_profile(get_profile(str(config["robot"])), genome_meta, paths.best_genome)
     return RunData(
         path=paths.root,
         robot=str(config["robot"]),
@@ -210,7 +211,8 @@ def load_run(run_dir: str | Path) -> RunData:
         pareto_front=front,
         pareto_stage=stage,
         best_genome=genome,
-        input_encoding=str(genome_meta.get("input_encoding", "paper")),
+        input_encoding=planner.input_encoding,
+        feedback_action=planner.feedback_action,
     )
 
 

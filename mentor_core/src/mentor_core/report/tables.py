@@ -63,9 +63,11 @@ def run_numbers(run: RunData) -> RunNumbers:
     )
 
 
-def genome_tables(genome: Genome, encoding: str = "paper") -> list[str]:
+def genome_tables(
+    genome: Genome, encoding: str = "paper", feedback_action: bool = False
+) -> list[str]:
     """Markdown tables of a genome's nodes and connection genes."""
-    labels = node_labels(genome, encoding)
+    labels = node_labels(genome, encoding, feedback_action)
     lines = _md_table(
         ["node", "name", "kind", "activation"],
         [[str(n.id), labels[n.id], n.kind, n.activation] for n in genome.nodes],

@@ -41,6 +41,10 @@ class GuidedPlanner:
         self.planner = planner
         self.guide = PathGuide(config)
 
+    def reset(self) -> None:
+        """Start the network blank (a new goal or episode; :meth:`GenomePlanner.reset`)."""
+        self.planner.reset()
+
     def set_map(self, grid: OccupancyGrid) -> None:
         """Plan on ``grid`` from now on (see :meth:`PathGuide.set_map`)."""
         self.guide.set_map(grid)

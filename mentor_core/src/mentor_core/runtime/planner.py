@@ -22,6 +22,13 @@ stamp (ns, sim time) and asks it
 * :meth:`DecisionGate.arrived`: the robot stands within the goal radius of its goal (the
   goal is then done and dropped, as a navigation stack's goal checker does).
 
+A planner with a context (a memory of its previous outputs, ``RobotProfile.n_context``)
+decides from what it decided before: :meth:`GenomePlanner.reset` starts it blank, and the
+gate marks the first observation it answers for a new goal or a new episode
+(:attr:`Observation.new_goal`) so that the node resets the planner there, as each episode of
+training starts blank. An observation is answered once, so a repeated one (lockstep resends)
+never advances the memory twice.
+
 Goals: a goal within :data:`~mentor_core.runtime.goal_intake.SAME_GOAL` m of the current one
 is the same goal (the simulator's ``started`` event and a goal topic may carry one goal through
 different frames).
@@ -71,8 +78,9 @@ def planner_profile(
 ) -> RobotProfile:
     """``profile`` as the genome was trained to use it: its metadata's ``input_encoding``
     (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
-    ``step_max`` and ``step_min`` (m; each the profile's when absent) and
-    ``clearance_margin`` (m; absent: none).
+    ``step_max`` and ``step_min`` (m; each the profile's when absent),
+    ``clearance_margin`` (m; absent: none), ``feedback_action`` and ``memory_units``
+    (absent: off, as every genome saved before they existed).
 
     ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
     (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
@@ -94,6 +102,8 @@ def planner_profile(
         step_max=metadata.get("step_max"),
         step_min=metadata.get("step_min"),
         clearance_margin=metadata.get("clearance_margin"),
+        feedback_action=metadata.get("feedback_action"),
+        memory_units=metadata.get("memory_units"),
         source=source,
     )
 
@@ -101,19 +111,29 @@ def planner_profile(
 class GenomePlanner:
     """One robot's decisions from an evolved genome, exactly as in training.
 
+    A planner with a context (``profile.n_context``) is stateful: each decision reads what
+    the previous one output, as in an episode of training, until :meth:`reset`.
+
     Raises ConfigError when the genome's inputs/outputs do not fit the profile.
     """
 
     def __init__(self, genome: Genome, profile: RobotProfile, source: str = "<genome>") -> None:
-        if genome.n_inputs != profile.n_inputs or genome.n_outputs != 2:
+        if genome.n_inputs != profile.n_inputs or genome.n_outputs != profile.n_outputs:
             raise ConfigError(
                 f"genome has {genome.n_inputs} inputs and {genome.n_outputs} outputs, profile "
-                f"{profile.name!r} needs {profile.n_inputs} inputs and 2 outputs",
+                f"{profile.name!r} needs {profile.n_inputs} inputs and {profile.n_outputs} "
+                "outputs",
                 path=source,
             )
         self.genome = genome
         self.profile = profile
         self.network = FeedForwardNetwork.from_genome(genome)
+        self._context = observation.initial_context(1, profile)
+
+    def reset(self) -> None:
+        """Start blank: the next decision reads the context of a first decision (a new goal or
+        episode; :func:`mentor_core.sim.observation.initial_context`)."""
+        self._context = observation.initial_context(1, self.profile)
 
     @classmethod
     def load(cls, genome_path: str | Path, profile_name: str) -> GenomePlanner:
@@ -130,16 +150,20 @@ class GenomePlanner:
         self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike
     ) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) for readings (k,) (m, +inf out of range), pose
-        (x, y, theta) and goal (x, y) in ``map``. ValueError for NaN or malformed input."""
+        (x, y, theta) and goal (x, y) in ``map``. ValueError for NaN or malformed input (the
+        context is then left as it was)."""
         readings = np.asarray(ranges, dtype=np.float64).reshape(1, -1)
         inputs = observation.network_inputs(
             readings,
             np.asarray(pose, dtype=np.float64).reshape(1, 3),
             np.asarray(goal, dtype=np.float64).reshape(1, 2),
             self.profile,
+            self._context,
         )
         outputs = self.network.activate(inputs)
         dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
+        if self.profile.n_context:
+            self._context = observation.next_context(outputs, self.profile)
         return float(dtheta[0]), float(ds[0])
 
     def command(
@@ -156,12 +180,14 @@ class GenomePlanner:
 @dataclass(frozen=True)
 class Observation:
     """What the planner answers: stamp (ns) of the scan, readings, pose and goal (None when
-    no goal has been received)."""
+    no goal has been received); ``new_goal``: the first observation answered since a new goal
+    or a ``started`` event (a planner with a memory starts blank on it)."""
 
     stamp_ns: int
     ranges: FloatArray
     pose: Pose
     goal: tuple[float, float] | None
+    new_goal: bool = False
 
 
 class DecisionGate:
@@ -192,6 +218,7 @@ class DecisionGate:
         self._answered_at: int | None = None  # node time of that answer
         self._since: int | None = None  # node time the watchdog counts from before an answer
         self._idle = False
+        self._new_goal = False  # no observation answered since a new goal or episode
 
     @property
     def idle(self) -> bool:
@@ -218,6 +245,7 @@ class DecisionGate:
         if same_goal(self._goal, new):
             return False
         self._goal = new
+        self._new_goal = True
         return True
 
     def arrived(self, pose: Pose, radius: float) -> bool:
@@ -240,6 +268,7 @@ class DecisionGate:
             self._goal = None
         elif kind == "started":
             self._idle = False
+            self._new_goal = True  # a new episode, even towards the goal held
             self._since = int(now_ns)
             self._answered_at = None
             if goal is not None:
@@ -261,7 +290,8 @@ class DecisionGate:
         self._answered_stamp = stamp
         self._answered_goal = self._goal
         self._answered_at = int(now_ns)
-        return Observation(stamp, ranges.copy(), pose, self._goal)
+        new_goal, self._new_goal = self._new_goal, False
+        return Observation(stamp, ranges.copy(), pose, self._goal, new_goal)
 
     def watchdog(self, now_ns: int) -> str | None:
         """Why the planner should send a zero Twist at node time ``now_ns`` (one line), or None.

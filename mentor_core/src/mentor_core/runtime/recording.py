@@ -29,7 +29,7 @@ Metadata layout (under the bag's ``metadata`` key)::
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -275,14 +275,17 @@ def record_planners(
     scenarios: Sequence[Scenario],
     time_limit: float | None = None,
     numbers: Sequence[int] | None = None,
+    resets: Mapping[str, Callable[[], None]] | None = None,
 ) -> tuple[EpisodeRecorder, dict[str, list[RobotTrace]]]:
     """Run each planner alone on each scenario in the reference simulator and record it.
 
     ``planners`` maps a robot namespace to its decision function; episodes run planner by
     planner, scenario by scenario, one control period apart. ``time_limit`` (s) replaces the
     profile's time budget when given; ``numbers`` are the scenarios' numbers in their source
-    (default 0, 1, ...), as the bag records them. Returns the recorder (save it with
-    :meth:`EpisodeRecorder.save`) and each planner's traces in scenario order.
+    (default 0, 1, ...), as the bag records them; ``resets`` maps a namespace to what starts
+    its planner blank, called before each of its episodes (a planner with a memory,
+    :meth:`mentor_core.runtime.planner.GenomePlanner.reset`). Returns the recorder (save it
+    with :meth:`EpisodeRecorder.save`) and each planner's traces in scenario order.
     """
     recorder = EpisodeRecorder(world, profile.control_period, list(planners))
     dt_ns = round(profile.control_period * 1e9)
@@ -292,6 +295,8 @@ def record_planners(
     for ns, decide in planners.items():
         for k, scenario in zip(ids, scenarios, strict=True):
             setup = RobotSetup(ns, profile, scenario.start, scenario.goal, k, time_limit)
+            if resets is not None and ns in resets:
+                resets[ns]()
             ran = run_reference_episode(world, [setup], {ns: decide})
             if ns not in ran:
                 raise ValueError(f"scenario {k}: the start pose overlaps an obstacle or a wall")

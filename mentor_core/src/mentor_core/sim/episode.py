@@ -12,6 +12,12 @@ the share of the period spent on the arc up to the arriving sample; ``time_used`
 Experience (paper, "Experience-Gain"): every decision gives the point
 ``V = [U(t), A(t), U(t + 1)]`` of dimension ``2 k + 2``, with ``U`` the k range readings
 clipped to the sensor range and ``A = (dtheta, ds)``.
+
+Context (a planner with ``feedback_action`` or ``memory_units``): each robot carries what its
+network output at its previous decision into its next inputs
+(:func:`mentor_core.sim.observation.next_context`), from
+:func:`~mentor_core.sim.observation.initial_context` at its episode's start. It is not part
+of the experience: G measures behaviour (readings and actions), as in the paper.
 """
 
 from __future__ import annotations
@@ -143,7 +149,8 @@ def run_episodes(
     Args:
         scenarios: start/goal pairs, in one world or several.
         profile: the robot.
-        policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, 2)``, called
+        policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, n_outputs)``
+            (the profile's: the two actions, then its memory units), called
             once per control period (and world) for the ``m`` still-active robots (indices
             into ``scenarios``, ascending).
         time_budgets: per-scenario T_tot (s) instead of ``profile.time_budget``.
@@ -233,6 +240,7 @@ def _run_world(
     time_used = np.zeros(n, dtype=np.float64)
     active = ~reached & (allowed > 0)
     ranges = engine.observe()
+    context = observation.initial_context(n, profile)
     trajectory = [engine.poses.copy()]
     chunks: list[FloatArray] = []
     owners: list[IntArray] = []
@@ -242,9 +250,13 @@ def _run_world(
         idx = np.flatnonzero(active)
         seen = ranges[idx]
         aims = goals[idx] if input_goals is None else _aims(input_goals, engine.poses[idx], idx)
-        inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile)
-        outputs = np.asarray(policy(inputs, idx), dtype=np.float64).reshape(idx.size, 2)
+        past = context[idx] if profile.n_context else None  # the paper's planner: no context
+        inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile, past)
+        outputs = np.asarray(policy(inputs, idx), dtype=np.float64)
+        outputs = outputs.reshape(idx.size, profile.n_outputs)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)
+        if profile.n_context:
+            context[idx] = observation.next_context(outputs, profile)
         dtheta_all, ds_all = zeros.copy(), zeros.copy()
         dtheta_all[idx], ds_all[idx] = dth, ds
         result = engine.step(dtheta_all, ds_all, active)

@@ -32,6 +32,20 @@ egocentric inputs carry the same information (a planner that also needs the glob
 cannot use it: the arenas are random), and steering towards the goal is a monotone function of
 ``sin beta``. docs/algorithm.md gives the measured effect.
 
+A planner with a context (``RobotProfile.feedback_action``, ``RobotProfile.memory_units``; not
+in the paper, off by default) reads, after the goal inputs, what it output at its previous
+decision (:func:`next_context`)::
+
+    [..., o_1(t-1), o_2(t-1) (with feedback_action), m_1(t-1) .. m_j(t-1)]
+
+the previous action outputs clipped to ``[0, 1]`` (before the clearance limit) and its ``j``
+memory outputs, clipped to ``[0, 1]``; at the first decision of an episode or goal
+:func:`initial_context`: ``(0.5, 0)`` (no turn, the smallest step) and zeros. Why: a
+memoryless network cannot tell a dead end it has just entered from one it keeps returning
+to, nor keep to one side of an obstacle; fed-back outputs are an Elman/Jordan context memory
+NEAT can evolve to latch such a state, and the graph stays acyclic (one feed-forward pass per
+decision, as the batched evaluator needs).
+
 Network outputs ``(o_1, o_2)`` (clipped to ``[0, 1]``) map linearly onto the actions
 ``dtheta in [-heading_change_max, heading_change_max]`` (rad) and ``ds in [step_min,
 step_max]`` (m). A planner with a clearance margin (``RobotProfile.clearance_margin``, not in
@@ -97,15 +111,20 @@ def _goal_direction(poses: ArrayLike, goals: ArrayLike) -> tuple[FloatArray, Flo
 
 
 def network_inputs(
-    ranges: ArrayLike, poses: ArrayLike, goals: ArrayLike, profile: RobotProfile
+    ranges: ArrayLike, poses: ArrayLike, goals: ArrayLike, profile: RobotProfile,
+    context: ArrayLike | None = None,
 ) -> FloatArray:
-    """Network inputs (n, k + 3) = ``[clipped ranges, dX, dY, theta]`` (module docstring).
+    """Network inputs (n, ``profile.n_inputs``) = ``[clipped ranges, dX, dY, theta, context]``
+    (module docstring).
 
     Args:
         ranges: (n, k) sensor readings, m, in the profile's sensor order; +inf = nothing seen.
         poses: (n, 3) robot poses (x, y, theta) in the map frame (m, m, rad).
         goals: (n, 2) goal positions in the map frame, m.
         profile: the robot.
+        context: (n, ``profile.n_context``) what each network output at its previous decision
+            (:func:`next_context`, :func:`initial_context`); needed when the profile has a
+            context, else ignored.
 
     Raises ValueError for NaN or negative readings, non-finite poses or goals, or shapes that
     do not match.
@@ -127,8 +146,35 @@ def network_inputs(
         out[:, k : k + 3] = egocentric_goal(p, g, profile.goal_radius)
     else:
         out[:, k : k + 2] = signal_gradient(p, g, profile.goal_radius)
-        out[:, -1] = wrap_angle(p[:, 2])
+        out[:, k + 2] = wrap_angle(p[:, 2])
+    if profile.n_context:
+        if context is None:
+            raise ValueError("a planner with a context (memory) needs its previous outputs")
+        c = np.asarray(context, dtype=np.float64)
+        if c.shape != (u.shape[0], profile.n_context):
+            raise ValueError(f"expected a ({u.shape[0]}, {profile.n_context}) context, got "
+                             f"shape {c.shape}")  # fmt: skip
+        out[:, k + 3 :] = c
     return out
+
+
+def initial_context(n: int, profile: RobotProfile) -> FloatArray:
+    """The context (n, ``profile.n_context``) of a first decision: the action outputs of "no
+    turn, the smallest step" ``(0.5, 0)`` with ``feedback_action``, then zero memory."""
+    context = np.zeros((n, profile.n_context), dtype=np.float64)
+    if profile.feedback_action:
+        context[:, 0] = 0.5
+    return context
+
+
+def next_context(outputs: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """The context (n, ``profile.n_context``) the next decision reads, from this decision's
+    outputs (n, ``profile.n_outputs``): ``[o_1, o_2]`` with ``feedback_action``, then the
+    memory outputs ``m_1 .. m_j``, all clipped to ``[0, 1]`` (their range under the sigmoid;
+    an unbounded activation cannot make the loop grow without bound).
+    Raises ValueError for a wrong shape or NaN (:func:`actions_from_outputs`)."""
+    o = np.clip(_outputs(outputs, profile), 0.0, 1.0)
+    return o[:, 0 if profile.feedback_action else 2 :]
 
 
 def egocentric_goal(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> FloatArray:
@@ -151,19 +197,15 @@ def egocentric_goal(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> F
 def actions_from_outputs(
     outputs: ArrayLike, profile: RobotProfile, ranges: ArrayLike | None = None
 ) -> tuple[FloatArray, FloatArray]:
-    """Actions ``(dtheta (n,), ds (n,))`` from network outputs (n, 2).
+    """Actions ``(dtheta (n,), ds (n,))`` from network outputs (n, ``profile.n_outputs``):
+    the first two, ``(o_1, o_2)`` (the memory outputs are not actions).
 
     ``o`` clipped to [0, 1]; ``dtheta = hmax (2 o_1 - 1)`` rad, ``ds = step_min + (step_max -
     step_min) o_2`` m, then ``ds <= clearance_limit(ranges, dtheta)`` when the profile has a
     clearance margin (``ranges`` (n, k), the readings the inputs were made of, are then
     required). Raises ValueError for NaN outputs or a wrong shape.
     """
-    o = np.atleast_2d(np.asarray(outputs, dtype=np.float64))
-    if o.ndim != 2 or o.shape[1] != 2:
-        raise ValueError(f"expected (n, 2) network outputs, got shape {o.shape}")
-    if np.isnan(o).any():
-        raise ValueError("network output is NaN")
-    o = np.clip(o, 0.0, 1.0)
+    o = np.clip(_outputs(outputs, profile)[:, :2], 0.0, 1.0)
     dtheta = profile.heading_change_max * (2.0 * o[:, 0] - 1.0)
     ds = profile.step_min + (profile.step_max - profile.step_min) * o[:, 1]
     if profile.clearance_margin is not None:
@@ -171,6 +213,19 @@ def actions_from_outputs(
             raise ValueError("a planner with a clearance margin needs the range readings")
         ds = np.minimum(ds, clearance_limit(ranges, dtheta, profile))
     return dtheta, ds
+
+
+def _outputs(outputs: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """Network outputs as an (n, ``profile.n_outputs``) array; ValueError for another shape
+    or a NaN."""
+    o = np.atleast_2d(np.asarray(outputs, dtype=np.float64))
+    if o.ndim != 2 or o.shape[1] != profile.n_outputs:
+        raise ValueError(
+            f"expected (n, {profile.n_outputs}) network outputs, got shape {o.shape}"
+        )
+    if np.isnan(o).any():
+        raise ValueError("network output is NaN")
+    return o
 
 
 def clearance_limit(ranges: ArrayLike, dtheta: ArrayLike, profile: RobotProfile) -> FloatArray:

@@ -42,6 +42,9 @@ PROFILES_VERSION = 1
 #: the network input encodings of ``mentor_core.sim.observation``
 InputEncoding = Literal["paper", "egocentric"]
 INPUT_ENCODINGS: tuple[str, ...] = get_args(InputEncoding)
+#: most memory units a planner may have (a context of a few latched bits; more only slows
+#: the search, each unit adding an input and an output)
+MAX_MEMORY_UNITS = 8
 # a mount may sit on the body edge; this absorbs the rounding of decimal coordinates
 _MOUNT_TOLERANCE = 1e-9
 
@@ -85,6 +88,12 @@ class RobotProfile:
         clearance_margin: when set, a step never exceeds the free range read ahead less this
             margin, m (:func:`mentor_core.sim.observation.clearance_limit`); None: no such limit,
             as in the paper. A planner's setting, like ``input_encoding``.
+        feedback_action: the network also reads its previous decision's two action outputs
+            (:func:`mentor_core.sim.observation.next_context`); False in the paper. A planner's
+            setting.
+        memory_units: extra network outputs fed back as inputs at the next decision, a
+            context memory (0 to :data:`MAX_MEMORY_UNITS`; 0 in the paper). A planner's
+            setting.
     """
 
     name: str
@@ -108,6 +117,8 @@ class RobotProfile:
     beam_sensors: tuple[int, ...] | None = None
     input_encoding: str = "paper"
     clearance_margin: float | None = None
+    feedback_action: bool = False
+    memory_units: int = 0
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:
@@ -160,9 +171,21 @@ class RobotProfile:
         return slice(None) if self.beam_sensors is None else list(self.beam_sensors)
 
     @property
+    def n_context(self) -> int:
+        """Network inputs fed back from the previous decision: its two action outputs with
+        ``feedback_action``, then the ``memory_units`` memory outputs."""
+        return 2 * int(self.feedback_action) + self.memory_units
+
+    @property
     def n_inputs(self) -> int:
-        """Network inputs without the bias: the readings, dX, dY and the heading."""
-        return self.n_sensors + 3
+        """Network inputs without the bias: the readings, the three goal inputs and the
+        context (:attr:`n_context`)."""
+        return self.n_sensors + 3 + self.n_context
+
+    @property
+    def n_outputs(self) -> int:
+        """Network outputs: the heading change, the step and the memory units."""
+        return 2 + self.memory_units
 
     @property
     def half_diagonal(self) -> float:
@@ -210,12 +233,16 @@ def with_planner(
     step_max: object = None,
     step_min: object = None,
     clearance_margin: object = None,
+    feedback_action: object = None,
+    memory_units: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
     ``(0, pi]``), its largest step (m, in ``[profile.step_min, profile.step_max]``), its
-    smallest step (m, in ``[0, step_max]``) and its clearance margin (m, >= 0; see
-    :func:`mentor_core.sim.observation.clearance_limit`) replaced where given (None keeps the
+    smallest step (m, in ``[0, step_max]``), its clearance margin (m, >= 0; see
+    :func:`mentor_core.sim.observation.clearance_limit`), whether it reads its previous action
+    (a bool) and its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
+    :func:`mentor_core.sim.observation.next_context`) replaced where given (None keeps the
     profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
@@ -259,6 +286,23 @@ def with_planner(
             clearance_margin, lambda v: 0.0 <= v < math.inf, "[0, inf) m", "clearance_margin",
             where,
         )  # fmt: skip
+    if feedback_action is not None:
+        if not isinstance(feedback_action, bool):
+            raise ConfigError(
+                f"must be true or false, got {feedback_action!r}", key="feedback_action",
+                path=where,
+            )  # fmt: skip
+        changes["feedback_action"] = feedback_action
+    if memory_units is not None:
+        if (
+            isinstance(memory_units, bool) or not isinstance(memory_units, int)
+            or not 0 <= memory_units <= MAX_MEMORY_UNITS
+        ):  # fmt: skip
+            raise ConfigError(
+                f"must be a whole number in [0, {MAX_MEMORY_UNITS}], got {memory_units!r}",
+                key="memory_units", path=where,
+            )  # fmt: skip
+        changes["memory_units"] = memory_units
     return dataclasses.replace(profile, **changes)
 
 

@@ -22,9 +22,10 @@ from pydantic import Field, model_validator
 from mentor_core.evolution.config import EvolutionConfig, Robot
 from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import FAMILIES
-from mentor_core.sim.robots import InputEncoding
+from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
 from mentor_core.validation import (
+    Bool,
     Float,
     Int,
     Str,
@@ -102,6 +103,15 @@ class TrainerConfig:
     clearance_margin: Annotated[Float, Field(ge=0.0)] | None = None
     """When set, every step is shortened to the free range read ahead less this margin, m
     (mentor_core.sim.observation.clearance_limit; null: no such limit, as in the paper); also
+    written into the metadata."""
+    feedback_action: Bool = False
+    """The network also reads its previous decision's two action outputs, clipped to [0, 1]
+    ((0.5, 0) at the first decision: no turn, the smallest step), as two extra inputs
+    (mentor_core.sim.observation; false: as in the paper); also written into the metadata."""
+    memory_units: Annotated[Int, Field(ge=0, le=MAX_MEMORY_UNITS)] = 0
+    """Memory units, 0 to 8: extra network outputs (in [0, 1]) that are no action but are fed
+    back as inputs at the next decision (0 at the first), a context memory NEAT can evolve to
+    latch a state, such as the side of a wall it follows (0: none, as in the paper); also
     written into the metadata."""
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
     """The MENTOR evolution parameters (population, rates, speciation); in a config file a

@@ -71,8 +71,13 @@ class NavigationProblem:
 
     @property
     def n_inputs(self) -> int:
-        """Network inputs (without the bias): the sensors, dX, dY and the heading."""
+        """Network inputs (without the bias): the sensors, the goal inputs and the context."""
         return self.profile.n_inputs
+
+    @property
+    def n_outputs(self) -> int:
+        """Network outputs: the two actions and the memory units."""
+        return self.profile.n_outputs
 
     def simulate(self, genomes: Sequence[Genome]) -> EpisodeBatch:
         """Run every genome on every scenario; robot ``g * n_scenarios + s`` is (g, s).

@@ -54,6 +54,7 @@ CHECKPOINT_VERSION = 1
 _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
     "doe": DoEConfig().to_dict(), "families": [], "family_pairs": 5,
+    "feedback_action": False, "memory_units": 0,
 }
 
 
@@ -89,6 +90,8 @@ def make_problem(
         step_max=config.step_max,
         step_min=config.step_min,
         clearance_margin=config.clearance_margin,
+        feedback_action=config.feedback_action,
+        memory_units=config.memory_units,
         source=source,
     )
     count = config.n_scenarios or prof.train_scenarios
@@ -122,7 +125,7 @@ class _Run:
         self.seed = seed
         self.problem = problem
         self.evolution = Evolution(
-            config.evolution, problem.n_inputs, 2, seed=seed, objectives=2
+            config.evolution, problem.n_inputs, problem.n_outputs, seed=seed, objectives=2
         )
         self.generation = 0
         self.history: list[GenerationRecord] = []
@@ -309,6 +312,8 @@ def _write_final_files(
             "step_max": profile.step_max,
             "step_min": profile.step_min,
             "clearance_margin": profile.clearance_margin,
+            "feedback_action": profile.feedback_action,
+            "memory_units": profile.memory_units,
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,
