@@ -54,7 +54,7 @@ CHECKPOINT_VERSION = 1
 _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
     "doe": DoEConfig().to_dict(), "families": [], "family_pairs": 5,
-    "feedback_action": False, "memory_units": 0,
+    "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
 }
 
 
