@@ -62,7 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = Parser(prog="mentor-train", description=__doc__.split("\n")[0])
     p.add_argument("--robot", choices=("ugv", "swarm"), help="robot profile (required)")
     p.add_argument("--framework", choices=("single", "dual"), help="(required)")
-    p.add_argument("--config", help="YAML file or shipped name: quick | paper | original (default paper)")
+    p.add_argument("--config", help="YAML file or shipped name: quick | paper | original "
+                   "(default paper)")
     p.add_argument("--seed", type=seed, default=None,
                    help="evolution seed, >= 0 (default: the config file's seed, as in a run's "
                         "config.yaml, else 0)")
