@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/generation_bench.py [--robot ugv] [--genomes 100]
         [--scenarios 80] [--repeats 2] [--workers 1 2] [--step-max M] [--step-min M]
-        [--clearance-margin M]
+        [--clearance-margin M] [--config FILE]
 
 A generation is every genome on every training scenario in the batched engine (up to the
 scenario's time budget, 50 decisions at most), then one Euclidean MST per genome over its
@@ -15,7 +15,9 @@ Also times the experience gain alone (``experience_gains`` on the generation's p
 the evaluator calls it: 100 MSTs spread over numba's threads) and its share of an in-process
 generation, in wall-clock seconds and in CPU seconds of this process (all threads; steadier
 than wall time when other jobs share the cores). Prints JSON. ``benchmarks/side_by_side.py``
-runs this script against two checkouts.
+runs this script against two checkouts. ``--config`` takes the training problem of a trainer
+config file instead (its robot, planner settings, pairs and time budgets;
+``--scenarios`` then sets its DoE scenario count), to compare the cost of two configs.
 """
 
 from __future__ import annotations
@@ -55,16 +57,27 @@ def main() -> None:
     p.add_argument("--step-max", type=float, help="the planners' largest step (m)")
     p.add_argument("--step-min", type=float, help="the planners' smallest step (m)")
     p.add_argument("--clearance-margin", type=float, help="the planners' clearance margin (m)")
+    p.add_argument("--config", help="a trainer config file: its training problem (module doc)")
     args = p.parse_args()
 
-    profile = with_planner(
-        get_profile(args.robot), step_max=args.step_max, step_min=args.step_min,
-        clearance_margin=args.clearance_margin,
-    )  # fmt: skip
-    scenarios = training_scenarios(profile, 0, args.scenarios)
+    if args.config:
+        from mentor_core.training.config import TrainerConfig
+        from mentor_core.training.trainer import make_problem
+
+        config = TrainerConfig.from_yaml(args.config)
+        data = {**config.to_dict(), "n_scenarios": args.scenarios}
+        problem = make_problem(TrainerConfig.from_dict(data), source=args.config)
+        profile, scenarios, args.robot = problem.profile, list(problem.scenarios), config.robot
+    else:
+        profile = with_planner(
+            get_profile(args.robot), step_max=args.step_max, step_min=args.step_min,
+            clearance_margin=args.clearance_margin,
+        )  # fmt: skip
+        scenarios = training_scenarios(profile, 0, args.scenarios)
+        problem = NavigationProblem(profile, scenarios)
     genomes = evolved_looking(args.genomes, profile.n_inputs, args.robot, args.rounds, 1)
-    problem = NavigationProblem(profile, scenarios)
     out: dict[str, object] = {
+        "config": args.config,
         "robot": args.robot,
         "step_max": profile.step_max,
         "step_min": profile.step_min,
