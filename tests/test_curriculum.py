@@ -9,6 +9,7 @@ import pytest
 from numpy.typing import NDArray
 
 from mentor_core.benchmark.suite import SPLITS, world_pairs
+from mentor_core.cli.train import resolve_config
 from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import minimal_genome
 from mentor_core.evolution.innovation import InnovationTracker
@@ -116,3 +117,19 @@ def test_one_time_budget_for_every_training_scenario() -> None:
 def test_bad_curriculum_keys_are_named(extra: dict[str, object], key: str) -> None:
     with pytest.raises(ConfigError, match=key):
         TrainerConfig.from_dict({"robot": "swarm", **extra}, "c.yaml")
+
+
+@pytest.mark.parametrize("robot", ["ugv", "swarm"])
+def test_shipped_configs_paper_and_original(robot: str) -> None:
+    # "original": the paper's own planner and training settings (the study's reference)
+    original = resolve_config(robot, "dual", "original")
+    assert (original.input_encoding, original.heading_change_max_deg, original.step_max,
+            original.step_min, original.clearance_margin) == ("paper", None, None, None, None)
+    assert original.doe.wall_count == (0, 0) and original.families == ()
+    assert (original.pair_distances, original.time_budget) == ("paper", None)
+    assert original.n_scenarios == get_profile(robot).train_scenarios  # Table I
+    shipped = resolve_config(robot, "dual", "paper")
+    # issue 15, point 4: the UGV trains at the test's distances and budgets (60 pairs); the
+    # Swarm-Robot's paper draw already spans them
+    expected = ("test", 50.0, 60) if robot == "ugv" else ("paper", None, 20)
+    assert (shipped.pair_distances, shipped.time_budget, shipped.n_scenarios) == expected
