@@ -1,0 +1,78 @@
+"""Probe: does an evolved planner stop dithering at walls if it keeps turning one way?
+
+    .venv/bin/python benchmarks/turn_commitment.py GENOME [GENOME ...] [--robot ugv]
+        [--split validation] [--pairs-per-family 20]
+
+The UGV planners' collisions on the benchmark end in alternating +-45 deg turns at the smallest
+step while the way ahead is blocked (``benchmarks/RESULTS.md``, "Better planners"). This wraps
+each genome's policy, at evaluation time only, with a Bug-like commitment: while the clearance
+limit holds the step at its smallest (``observation.clearance_limit`` of the chosen turn is
+``step_min``), a turn to the other side than the previous decision's is mirrored to the
+previous side (same magnitude). Prints success / collisions / timeouts (50 s) per family and
+overall for each genome, plain and committed. A probe of the hypothesis, not a planner: the
+genomes were trained without the rule.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+
+import numpy as np
+
+from mentor_core.benchmark.contenders import Contender, evolved
+from mentor_core.benchmark.runner import run_contender
+from mentor_core.benchmark.suite import build_suite
+from mentor_core.sim.episode import FloatArray, IntArray, Policy
+from mentor_core.sim.observation import clearance_limit
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.world import Scenario
+
+
+def committed(contender: Contender) -> Contender:
+    """``contender`` with the turn commitment (module docstring)."""
+
+    def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
+        base = contender.policy(scenarios)
+        previous = np.full(len(scenarios), 0.5)  # the last turn output of each robot
+        k = profile.n_sensors
+
+        def policy(inputs: FloatArray, robots: IntArray) -> FloatArray:
+            out = np.array(base(inputs, robots), dtype=np.float64, copy=True)
+            turn = np.clip(out[:, 0], 0.0, 1.0)
+            dtheta = profile.heading_change_max * (2.0 * turn - 1.0)
+            blocked = clearance_limit(inputs[:, :k], dtheta, profile) <= profile.step_min
+            before = previous[robots]
+            flip = blocked & ((turn - 0.5) * (before - 0.5) < 0.0)
+            out[flip, 0] = 1.0 - turn[flip]
+            previous[robots] = out[:, 0]
+            return out
+
+        return policy
+
+    return Contender(contender.name + "+commit", contender.kind, contender.profile, make)
+
+
+def main() -> None:
+    """Run the probe and print a line per genome and variant."""
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("genomes", nargs="+")
+    p.add_argument("--robot", default="ugv")
+    p.add_argument("--split", default="validation")
+    p.add_argument("--pairs-per-family", type=int, default=20)
+    args = p.parse_args()
+    robot = get_profile(args.robot)
+    suite = build_suite(robot, args.split, pairs_per_family=args.pairs_per_family)
+    for path in args.genomes:
+        plain = evolved(path, robot)
+        for c in (plain, committed(plain)):
+            scores = run_contender(suite, c).scores["paper"]
+            cells = [f"{f} {100 * s['success']:.0f}" for f, s in scores.items() if f != "overall"]
+            o = scores["overall"]
+            print(f"{c.name}: success {100 * o['success']:.0f} % collisions "
+                  f"{100 * o['collision']:.0f} % timeouts {100 * o['timeout']:.0f} % SPL "
+                  f"{o['spl']:.2f} | {' '.join(cells)}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
