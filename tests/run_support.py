@@ -1,4 +1,5 @@
-"""A run directory's files as a comparable snapshot, for tests that compare two runs."""
+"""A run directory's files as a comparable snapshot, for tests that compare two runs, and the
+tiny training config those runs use."""
 
 from __future__ import annotations
 
@@ -7,6 +8,16 @@ import io
 import json
 from pathlib import Path
 from typing import Any
+
+#: a dual-stage Swarm-Robot run of seconds: 6 genomes x 3 generations on 3 scenarios
+TINY = {
+    "robot": "swarm",
+    "framework": "dual",
+    "generations": 3,
+    "stage1_generations": 2,
+    "n_scenarios": 3,
+    "evolution": {"population_size": 6},
+}
 
 
 def without_seconds(history: str) -> list[dict[str, str]]:

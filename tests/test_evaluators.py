@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 import pytest
 import yaml
+from run_support import TINY
 
 from mentor_core.cli import train as train_cli
 from mentor_core.errors import ConfigError, MentorError
@@ -45,15 +46,6 @@ except ImportError:
     HAVE_RAY = False
 NO_RAY = "ray cannot be imported (install the extra: pip install 'mentor-core[ray]')"
 needs_ray = pytest.mark.skipif(not HAVE_RAY, reason=NO_RAY)
-
-TINY = {
-    "robot": "swarm",
-    "framework": "dual",
-    "generations": 3,
-    "stage1_generations": 2,
-    "n_scenarios": 3,
-    "evolution": {"population_size": 6},
-}
 
 
 def tiny_config() -> TrainerConfig:

@@ -26,20 +26,11 @@ from pathlib import Path
 
 import pytest
 import yaml
-from run_support import snapshot
+from run_support import TINY, snapshot
 
 from mentor_core.cli import train as train_cli
 
 pytest.importorskip("ray")
-
-TINY = {
-    "robot": "swarm",
-    "framework": "dual",
-    "generations": 3,
-    "stage1_generations": 2,
-    "n_scenarios": 3,
-    "evolution": {"population_size": 6},
-}
 
 
 @dataclass(frozen=True)

@@ -118,13 +118,9 @@ class GenomePlanner:
     """
 
     def __init__(self, genome: Genome, profile: RobotProfile, source: str = "<genome>") -> None:
-        if genome.n_inputs != profile.n_inputs or genome.n_outputs != profile.n_outputs:
-            raise ConfigError(
-                f"genome has {genome.n_inputs} inputs and {genome.n_outputs} outputs, profile "
-                f"{profile.name!r} needs {profile.n_inputs} inputs and {profile.n_outputs} "
-                "outputs",
-                path=source,
-            )
+        fault = profile.network_mismatch(genome.n_inputs, genome.n_outputs)
+        if fault:
+            raise ConfigError(fault, path=source)
         self.genome = genome
         self.profile = profile
         self.network = FeedForwardNetwork.from_genome(genome)

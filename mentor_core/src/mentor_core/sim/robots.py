@@ -187,6 +187,14 @@ class RobotProfile:
         """Network outputs: the heading change, the step and the memory units."""
         return 2 + self.memory_units
 
+    def network_mismatch(self, n_inputs: int, n_outputs: int) -> str:
+        """Why a network with ``n_inputs`` inputs and ``n_outputs`` outputs cannot drive this
+        planner (one line), or '' when it fits :attr:`n_inputs` and :attr:`n_outputs`."""
+        if (n_inputs, n_outputs) == (self.n_inputs, self.n_outputs):
+            return ""
+        return (f"genome has {n_inputs} inputs and {n_outputs} outputs, the {self.name!r} "
+                f"profile needs {self.n_inputs} inputs and {self.n_outputs} outputs")  # fmt: skip
+
     @property
     def half_diagonal(self) -> float:
         """Radius of the circle around the body centre that holds the whole body, m."""

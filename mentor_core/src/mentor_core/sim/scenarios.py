@@ -325,12 +325,12 @@ def training_scenarios(
         raise ValueError(f"{count} scenarios cannot cover {worlds} training worlds")
     parent = np.random.default_rng(seed)
     rngs = parent.spawn(2) + parent.spawn(2 * (worlds - 1))
+    lo, hi = (None, None) if distances is None else distances
     found: list[Scenario] = []
     for j in range(worlds):
         world = sample_world(profile.train_arena, rngs[2 * j], cfg)
         suffix = "" if j == 0 else f"-world{j}"
         named = World(world.size, world.obstacles, name=f"{profile.name}-train-seed{seed}{suffix}")
         pairs = count // worlds + (j < count % worlds)
-        lo, hi = (None, None) if distances is None else distances
         found += sample_scenarios(named, profile, pairs, rngs[2 * j + 1], lo, hi)
     return found

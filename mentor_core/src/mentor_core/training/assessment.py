@@ -80,12 +80,9 @@ class Assessment:
 
 def check_compatible(genome: Genome, profile: RobotProfile) -> None:
     """Raise ValueError unless the genome's inputs/outputs fit the robot profile."""
-    if genome.n_inputs != profile.n_inputs or genome.n_outputs != profile.n_outputs:
-        raise ValueError(
-            f"genome has {genome.n_inputs} inputs and {genome.n_outputs} outputs, the "
-            f"'{profile.name}' profile needs {profile.n_inputs} inputs and "
-            f"{profile.n_outputs} outputs"
-        )
+    fault = profile.network_mismatch(genome.n_inputs, genome.n_outputs)
+    if fault:
+        raise ValueError(fault)
 
 
 def assess(
