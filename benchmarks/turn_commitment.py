@@ -18,35 +18,24 @@ from __future__ import annotations
 import argparse
 from collections.abc import Sequence
 
-import numpy as np
-
 from mentor_core.benchmark.contenders import Contender, evolved
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite
+from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.episode import FloatArray, IntArray, Policy
-from mentor_core.sim.observation import clearance_limit
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario
 
 
 def committed(contender: Contender) -> Contender:
-    """``contender`` with the turn commitment (module docstring)."""
+    """``contender`` with the turn commitment (``mentor_core.sim.commitment``)."""
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
         base = contender.policy(scenarios)
-        previous = np.full(len(scenarios), 0.5)  # the last turn output of each robot
-        k = profile.n_sensors
+        rule = TurnCommitment(profile, len(scenarios))
 
         def policy(inputs: FloatArray, robots: IntArray) -> FloatArray:
-            out = np.array(base(inputs, robots), dtype=np.float64, copy=True)
-            turn = np.clip(out[:, 0], 0.0, 1.0)
-            dtheta = profile.heading_change_max * (2.0 * turn - 1.0)
-            blocked = clearance_limit(inputs[:, :k], dtheta, profile) <= profile.step_min
-            before = previous[robots]
-            flip = blocked & ((turn - 0.5) * (before - 0.5) < 0.0)
-            out[flip, 0] = 1.0 - turn[flip]
-            previous[robots] = out[:, 0]
-            return out
+            return rule(base(inputs, robots), inputs, robots)
 
         return policy
 

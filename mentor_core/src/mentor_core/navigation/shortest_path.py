@@ -27,6 +27,7 @@ Units: m, in the ``map`` frame of the world.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -85,6 +86,12 @@ class VisibilityGraph:
             self._dist = np.zeros((0, 0))
             self._pred = np.zeros((0, 0), dtype=np.int32)
 
+    @property
+    def corner_distances(self) -> FloatArray:
+        """(n, n) shortest distances between the corners ``nodes`` (m; inf: no way)."""
+        dist: FloatArray = self._dist
+        return dist
+
     def free(self, points: ArrayLike) -> BoolArray:
         """(n,) True where a point lies in the free configuration space: inside
         ``[r, size - r]^2`` and not inside a grown box (its boundary is free)."""
@@ -112,8 +119,12 @@ class VisibilityGraph:
         out = np.ones(len(p), dtype=np.bool_)
         if not len(self.boxes) or not len(p):
             return out
-        step = max(1, _CHUNK // len(self.boxes))
         shrunk = self.boxes + np.array([EPSILON, EPSILON, -EPSILON, -EPSILON])
+        if _blocked_numba is not None:
+            blocked = np.empty(len(p), dtype=np.bool_)
+            _blocked_numba(np.ascontiguousarray(p), np.ascontiguousarray(q), shrunk, blocked)
+            return ~blocked
+        step = max(1, _CHUNK // len(self.boxes))
         for s in range(0, len(p), step):
             out[s : s + step] = ~_blocked(p[s : s + step], q[s : s + step], shrunk)
         return out
@@ -176,13 +187,22 @@ class VisibilityGraph:
             d_s = np.zeros(0)
         points = np.concatenate([s[None], self.nodes])
         dist = np.concatenate([[0.0], d_s])
-        gap = np.hypot(*(g - points).T)
-        inside = gap <= radius
-        unit = (g - points) / np.where(gap > 0.0, gap, 1.0)[:, None]
-        entry = g - radius * unit  # the disc's point nearest each point
-        ok = inside | self.visible(points, np.where(inside[:, None], points, entry))
-        total = np.where(ok & np.isfinite(dist), dist + np.maximum(gap - radius, 0.0), np.inf)
+        total = np.where(np.isfinite(dist), dist + self.legs_to_disc(points, g, radius), np.inf)
         return float(total.min())
+
+    def legs_to_disc(self, points: ArrayLike, goal: ArrayLike, goal_radius: float) -> FloatArray:
+        """(m,) length of the straight leg from each point into the disc of ``goal_radius``
+        (m) about ``goal`` (to the disc's point nearest it; 0 inside), inf where that leg is
+        blocked."""
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        g = np.asarray(goal, dtype=np.float64).reshape(-1)[:2]
+        radius = max(float(goal_radius), 0.0)
+        gap = np.hypot(*(g - p).T)
+        inside = gap <= radius
+        unit = (g - p) / np.where(gap > 0.0, gap, 1.0)[:, None]
+        entry = g - radius * unit  # the disc's point nearest each point
+        ok = inside | self.visible(p, np.where(inside[:, None], p, entry))
+        return np.where(ok, np.maximum(gap - radius, 0.0), np.inf)
 
     def length(self, start: ArrayLike, goal: ArrayLike) -> float:
         """Length (m) of :meth:`path`, ``inf`` when there is none."""
@@ -214,6 +234,38 @@ def _blocked(p: FloatArray, q: FloatArray, boxes: FloatArray) -> BoolArray:
     enter = np.maximum(np.maximum(t_lo[..., 0], t_lo[..., 1]), 0.0)
     leave = np.minimum(np.minimum(t_hi[..., 0], t_hi[..., 1]), 1.0)
     return np.asarray((enter < leave).any(axis=1), dtype=np.bool_)
+
+
+def _blocked_loop(p: FloatArray, q: FloatArray, boxes: FloatArray, out: BoolArray) -> None:
+    """Scalar-loop twin of :func:`_blocked` (compiled by numba): the same arithmetic per
+    segment and box, so the same verdicts; writes ``out``."""
+    for i in range(p.shape[0]):
+        out[i] = False
+        dx, dy = q[i, 0] - p[i, 0], q[i, 1] - p[i, 1]
+        for k in range(boxes.shape[0]):
+            enter, leave = 0.0, 1.0
+            for axis in range(2):
+                o = p[i, axis]
+                d = dx if axis == 0 else dy
+                lo, hi = boxes[k, axis], boxes[k, axis + 2]
+                if d != 0.0:
+                    ta, tb = (lo - o) / d, (hi - o) / d
+                    enter = max(enter, min(ta, tb))
+                    leave = min(leave, max(ta, tb))
+                elif not (lo < o < hi):
+                    leave = -np.inf  # outside this slab for all t
+            if enter < leave:
+                out[i] = True
+                break
+
+
+_blocked_numba: Callable[..., None] | None
+try:
+    from numba import njit
+
+    _blocked_numba = njit(cache=True)(_blocked_loop)
+except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
+    _blocked_numba = None
 
 
 def shortest_path(

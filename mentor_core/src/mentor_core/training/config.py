@@ -24,6 +24,7 @@ from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
+from mentor_core.training.problem import GoalDistanceKind
 from mentor_core.validation import (
     Bool,
     Float,
@@ -86,6 +87,13 @@ class TrainerConfig:
     time_budget: Annotated[Float, Field(gt=0.0)] | None = None
     """Time budget of every training scenario, s (null: the paper's T_tot = min(cap, slack d /
     rated speed), per scenario; the benchmark and the unseen test give every pair 50 s)."""
+    goal_distance: GoalDistanceKind = "euclidean"
+    """S_f in the performance F of a failed scenario (paper eq. 4): "euclidean", the straight
+    distance to the goal (the paper's), or "geodesic", the shortest way round the obstacles
+    (mentor_core.training.problem.NavigationProblem); see docs/algorithm.md "Performance"."""
+    turn_commitment: bool = False
+    """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
+    not in the paper): an experiment of benchmarks/RESULTS.md, applied in training only."""
     input_encoding: InputEncoding = "egocentric"
     """The network's goal inputs, "egocentric" or "paper" (mentor_core.sim.observation);
     written into the best genome's metadata so that the planner node and mentor-eval feed the

@@ -4,7 +4,9 @@ This is where evolution and simulation meet (pymoo's "problem"): every genome dr
 in every training scenario, all robots of a call step together in the batched engine, and each
 genome gets
 
-* F = sum_i F_i, paper eqs. (3)-(4) (``objectives.scenario_performance``), and
+* F = sum_i F_i, paper eqs. (3)-(4) (``objectives.scenario_performance``); the final
+  distance S_f of a failure is the straight one (the paper's) or, with
+  ``goal_distance="geodesic"``, the shortest way round the obstacles (not in the paper), and
 * G = total length of the Euclidean minimum spanning tree over the union of its experience
   points V = [U(t), A(t), U(t+1)], paper eqs. (5)-(8) (``experience.experience_gain``).
 
@@ -16,19 +18,27 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from mentor_core.evolution.batch_network import BatchNetwork
 from mentor_core.evolution.genome import Genome
+from mentor_core.navigation.goal_distance import GoalDistance
+from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.objectives.experience import experience_gains
 from mentor_core.objectives.performance import scenario_performance
+from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.episode import EpisodeBatch, run_episodes
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
 
 OBJECTIVE_NAMES = ("performance", "experience_gain")
+GoalDistanceKind = Literal["euclidean", "geodesic"]
+# the geodesic S_f's footprint: a little inside the body's inscribed disc, so that a robot
+# stopped against an obstacle still stands in the free space
+_INSCRIBED_SHARE = 0.9
 
 
 @dataclass(frozen=True)
@@ -50,7 +60,14 @@ class NavigationProblem:
     """Evaluate planners (genomes) on a fixed list of scenarios in one world.
 
     ``time_budget`` (s) gives every scenario that budget T_tot; None keeps the paper's
-    (:meth:`~mentor_core.sim.robots.RobotProfile.time_budget`).
+    (:meth:`~mentor_core.sim.robots.RobotProfile.time_budget`). ``goal_distance``: S_f of
+    paper eq. 4 is the straight distance to the goal ("euclidean", the paper's) or the
+    shortest way round the obstacles into the goal's disc ("geodesic",
+    :class:`~mentor_core.navigation.goal_distance.GoalDistance`, for a disc a little inside
+    the body; where the final point is outside its free space, the straight distance). A
+    robot stopped at a wall with its goal behind it is then as far from the goal as the way
+    round, not as the wall's thickness. ``turn_commitment``: the networks' turns pass
+    through :class:`~mentor_core.sim.commitment.TurnCommitment` (not in the paper).
     """
 
     def __init__(
@@ -60,14 +77,30 @@ class NavigationProblem:
         *,
         with_experience: bool = True,
         time_budget: float | None = None,
+        goal_distance: GoalDistanceKind = "euclidean",
+        turn_commitment: bool = False,
     ) -> None:
         if not scenarios:
             raise ValueError("a NavigationProblem needs at least one scenario")
+        if goal_distance not in ("euclidean", "geodesic"):
+            raise ValueError(f"goal_distance must be euclidean or geodesic, not {goal_distance!r}")
         self.profile = profile
         self.scenarios = tuple(scenarios)
         self.with_experience = with_experience
         # one T_tot for every scenario (s); None: the paper's per-scenario budget
         self.time_budget = time_budget
+        self.goal_distance = goal_distance
+        self.turn_commitment = turn_commitment
+        self._to_goal: tuple[GoalDistance, ...] = ()
+        if goal_distance == "geodesic":
+            radius = _INSCRIBED_SHARE * 0.5 * min(profile.length, profile.width)
+            graphs: dict[int, VisibilityGraph] = {}
+            for sc in self.scenarios:
+                graphs.setdefault(id(sc.world), VisibilityGraph(sc.world, radius))
+            self._to_goal = tuple(
+                GoalDistance(graphs[id(sc.world)], sc.goal, profile.goal_radius)
+                for sc in self.scenarios
+            )
 
     @property
     def n_inputs(self) -> int:
@@ -91,9 +124,12 @@ class NavigationProblem:
             raise ValueError("simulate needs at least one genome")
         n_scen = len(self.scenarios)
         network = BatchNetwork.from_genomes(genomes)
+        n = n_scen * len(genomes)
+        rule = TurnCommitment(self.profile, n) if self.turn_commitment else None
 
         def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
-            return network.activate(inputs, robots // n_scen)
+            out = network.activate(inputs, robots // n_scen)
+            return out if rule is None else rule(out, inputs, robots)
 
         return run_episodes(
             list(self.scenarios) * len(genomes), self.profile, policy,
@@ -111,7 +147,7 @@ class NavigationProblem:
             batch.reached,
             batch.time_budget - batch.time_used,
             batch.time_budget,
-            batch.final_distance,
+            self.final_distance(batch),
         ).reshape(n_gen, n_scen)
         objectives = np.zeros((n_gen, 2), dtype=np.float64)
         objectives[:, 0] = per_scenario.sum(axis=1)
@@ -126,3 +162,19 @@ class NavigationProblem:
             success_rate=batch.reached.reshape(n_gen, n_scen).mean(axis=1),
             collision_rate=batch.collided.reshape(n_gen, n_scen).mean(axis=1),
         )
+
+    def final_distance(self, batch: EpisodeBatch) -> NDArray[np.float64]:
+        """S_f of each robot of ``batch`` (genome-major over this problem's scenarios), m."""
+        if not self._to_goal:
+            return batch.final_distance
+        out = batch.final_distance.copy()
+        n_scen = len(self.scenarios)
+        robots = np.flatnonzero(~batch.reached)
+        final = batch.trajectories[robots, batch.steps[robots], :2]
+        for s, to_goal in enumerate(self._to_goal):
+            mine = robots % n_scen == s
+            if mine.any():
+                # into the disc, then its radius: equal to the straight distance in the open
+                d = to_goal(final[mine]) + to_goal.goal_radius
+                out[robots[mine]] = np.where(np.isfinite(d), d, out[robots[mine]])
+        return out

@@ -55,6 +55,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
     "doe": DoEConfig().to_dict(), "families": [], "family_pairs": 5,
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
+    "goal_distance": "euclidean", "turn_commitment": False,
 }
 
 
@@ -114,7 +115,10 @@ def make_problem(
             )  # fmt: skip
         except ValueError as err:
             raise ConfigError(str(err), key="families", path=source) from None
-    return NavigationProblem(prof, scenarios, time_budget=config.time_budget)
+    return NavigationProblem(
+        prof, scenarios, time_budget=config.time_budget, goal_distance=config.goal_distance,
+        turn_commitment=config.turn_commitment,
+    )
 
 
 class _Run:

@@ -1,0 +1,43 @@
+"""A Bug-like turn commitment: keep turning to one side while the way ahead is blocked.
+
+Not in the paper; off by default (the trainer config's ``turn_commitment``). The UGV planners'
+collisions end in alternating +-45 deg turns at the smallest step while a wall blocks the way
+ahead (``benchmarks/RESULTS.md``, "Better planners"): facing a wall with the goal behind it, a
+turn either way puts the goal on the other side. While the clearance limit holds the chosen
+turn's step at ``step_min`` (``observation.clearance_limit``), a turn output on the other side
+of 0.5 (straight on) than the robot's previous decision's is mirrored about 0.5 to that side,
+with the same magnitude; elsewhere the network decides alone.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mentor_core.sim.observation import clearance_limit
+from mentor_core.sim.robots import RobotProfile
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+class TurnCommitment:
+    """The rule for ``n_robots`` robots, each remembering its previous turn output (0.5, no
+    turn, before its first decision)."""
+
+    def __init__(self, profile: RobotProfile, n_robots: int) -> None:
+        self.profile = profile
+        self.previous: FloatArray = np.full(n_robots, 0.5)
+
+    def __call__(self, outputs: FloatArray, inputs: FloatArray, robots: IntArray) -> FloatArray:
+        """The network ``outputs`` (n, >= 2) of ``robots`` on ``inputs`` (n, >= k sensors),
+        turns committed (a copy)."""
+        p = self.profile
+        out = np.array(outputs, dtype=np.float64, copy=True)
+        turn = np.clip(out[:, 0], 0.0, 1.0)
+        dtheta = p.heading_change_max * (2.0 * turn - 1.0)
+        blocked = clearance_limit(inputs[:, : p.n_sensors], dtheta, p) <= p.step_min
+        flip = blocked & ((turn - 0.5) * (self.previous[robots] - 0.5) < 0.0)
+        out[flip, 0] = 1.0 - turn[flip]
+        self.previous[robots] = out[:, 0]
+        return out
