@@ -1,7 +1,7 @@
 """Probe: does an evolved planner stop dithering at walls if it keeps turning one way?
 
     .venv/bin/python benchmarks/turn_commitment.py GENOME [GENOME ...] [--robot ugv]
-        [--split validation] [--pairs-per-family 20]
+        [--split validation] [--pairs-per-family 20] [--rule commit|goal_frame]
 
 The UGV planners' collisions on the benchmark end in alternating +-45 deg turns at the smallest
 step while the way ahead is blocked (``benchmarks/RESULTS.md``, "Better planners"). This wraps
@@ -10,7 +10,10 @@ limit holds the step at its smallest (``observation.clearance_limit`` of the cho
 ``step_min``), a turn to the other side than the previous decision's is mirrored to the
 previous side (same magnitude). Prints success / collisions / timeouts (50 s) per family and
 overall for each genome, plain and committed. A probe of the hypothesis, not a planner: the
-genomes were trained without the rule.
+genomes were trained without the rule. ``--rule goal_frame`` instead reads the turn output as
+a heading relative to the goal (``mentor_core.sim.goal_frame``): the "+goal_frame" line is
+the one for genomes trained with ``turn_frame: goal``; the commitment's "+commit" line is the
+one for genomes trained with ``turn_commitment: true``.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite
 from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.episode import FloatArray, IntArray, Policy
+from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario
 
@@ -42,6 +46,24 @@ def committed(contender: Contender) -> Contender:
     return Contender(contender.name + "+commit", contender.kind, contender.profile, make)
 
 
+def goal_framed(contender: Contender) -> Contender:
+    """``contender`` with turns relative to the goal (``mentor_core.sim.goal_frame``), for
+    genomes trained with ``turn_frame: goal``."""
+
+    def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
+        base = contender.policy(scenarios)
+
+        def policy(inputs: FloatArray, robots: IntArray) -> FloatArray:
+            return goal_frame_turns(base(inputs, robots), inputs, profile)
+
+        return policy
+
+    return Contender(contender.name + "+goal_frame", contender.kind, contender.profile, make)
+
+
+RULES = {"commit": committed, "goal_frame": goal_framed}
+
+
 def main() -> None:
     """Run the probe and print a line per genome and variant."""
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -49,12 +71,13 @@ def main() -> None:
     p.add_argument("--robot", default="ugv")
     p.add_argument("--split", default="validation")
     p.add_argument("--pairs-per-family", type=int, default=20)
+    p.add_argument("--rule", choices=sorted(RULES), default="commit")
     args = p.parse_args()
     robot = get_profile(args.robot)
     suite = build_suite(robot, args.split, pairs_per_family=args.pairs_per_family)
     for path in args.genomes:
         plain = evolved(path, robot)
-        for c in (plain, committed(plain)):
+        for c in (plain, RULES[args.rule](plain)):
             scores = run_contender(suite, c).scores["paper"]
             cells = [f"{f} {100 * s['success']:.0f}" for f, s in scores.items() if f != "overall"]
             o = scores["overall"]

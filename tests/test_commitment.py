@@ -1,4 +1,5 @@
-"""The Bug-like turn commitment (sim/commitment.py) and its trainer config key."""
+"""Rules on a planner's turns, experiments of benchmarks/RESULTS.md: the Bug-like turn commitment
+(sim/commitment.py), turns relative to the goal (sim/goal_frame.py), their trainer config keys."""
 
 from __future__ import annotations
 
@@ -7,7 +8,9 @@ import math
 import numpy as np
 import pytest
 
+from mentor_core.errors import ConfigError
 from mentor_core.sim.commitment import TurnCommitment
+from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.robots import get_profile, with_planner
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.trainer import make_problem
@@ -44,3 +47,33 @@ def test_config_key_turns_it_on_in_training() -> None:
     base = {"robot": "swarm", "n_scenarios": 3, "generations": 2, "stage1_generations": 1}
     assert not make_problem(TrainerConfig.from_dict(base)).turn_commitment
     assert make_problem(TrainerConfig.from_dict({**base, "turn_commitment": True})).turn_commitment
+
+
+def _goal_inputs(bearings_deg: list[float]) -> np.ndarray:
+    b = np.radians(bearings_deg)
+    readings = np.full((len(b), UGV.n_sensors), UGV.sensor_range)
+    return np.column_stack([readings, np.cos(b), np.sin(b), np.full(len(b), 0.5)])
+
+
+def test_goal_frame_turns_name_a_heading_relative_to_the_goal() -> None:
+    ugv = with_planner(UGV, input_encoding="egocentric")
+    # o_1 = 0.5 heads for the goal (30 deg left: turn 30 deg; 120 deg left: the 45 deg limit);
+    # 0.75 is 90 deg left of the goal; past +-180 deg the way round is the short one
+    inputs = _goal_inputs([30.0, 120.0, 0.0, 170.0])
+    outputs = np.array([[0.5, 0.2], [0.5, 0.2], [0.75, 0.2], [20 / 360 + 0.5, 0.2]])
+    turned = goal_frame_turns(outputs, inputs, ugv)
+    dtheta = np.degrees(ugv.heading_change_max * (2.0 * turned[:, 0] - 1.0))
+    assert dtheta == pytest.approx([30.0, 45.0, 45.0, -45.0], abs=1e-9)
+    assert turned[:, 1].tolist() == [0.2] * 4  # the step output is the network's
+    with pytest.raises(ValueError, match="egocentric"):
+        goal_frame_turns(outputs, inputs, with_planner(UGV, input_encoding="paper"))
+
+
+def test_config_key_turn_frame_needs_the_egocentric_inputs() -> None:
+    base = {"robot": "swarm", "n_scenarios": 3, "generations": 2, "stage1_generations": 1}
+    goal = TrainerConfig.from_dict({**base, "turn_frame": "goal"})
+    assert make_problem(goal).turn_frame == "goal"
+    with pytest.raises(ConfigError, match=r"turn_frame.*egocentric"):
+        make_problem(
+            TrainerConfig.from_dict({**base, "turn_frame": "goal", "input_encoding": "paper"})
+        )

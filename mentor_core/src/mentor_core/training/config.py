@@ -24,7 +24,7 @@ from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
-from mentor_core.training.problem import GoalDistanceKind
+from mentor_core.training.problem import GoalDistanceKind, TurnFrame
 from mentor_core.validation import (
     Bool,
     Float,
@@ -94,6 +94,10 @@ class TrainerConfig:
     turn_commitment: bool = False
     """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
     not in the paper): an experiment of benchmarks/RESULTS.md, applied in training only."""
+    turn_frame: TurnFrame = "body"
+    """What the turn output names: a heading change in the body frame ("body", the paper's) or
+    a heading relative to the goal's bearing ("goal", mentor_core.sim.goal_frame; not in the
+    paper): an experiment of benchmarks/RESULTS.md, applied in training only."""
     input_encoding: InputEncoding = "egocentric"
     """The network's goal inputs, "egocentric" or "paper" (mentor_core.sim.observation);
     written into the best genome's metadata so that the planner node and mentor-eval feed the

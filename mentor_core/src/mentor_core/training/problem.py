@@ -31,11 +31,13 @@ from mentor_core.objectives.experience import experience_gains
 from mentor_core.objectives.performance import scenario_performance
 from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.episode import EpisodeBatch, run_episodes
+from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
 
 OBJECTIVE_NAMES = ("performance", "experience_gain")
 GoalDistanceKind = Literal["euclidean", "geodesic"]
+TurnFrame = Literal["body", "goal"]
 # the geodesic S_f's footprint: a little inside the body's inscribed disc, so that a robot
 # stopped against an obstacle still stands in the free space
 _INSCRIBED_SHARE = 0.9
@@ -68,6 +70,8 @@ class NavigationProblem:
     robot stopped at a wall with its goal behind it is then as far from the goal as the way
     round, not as the wall's thickness. ``turn_commitment``: the networks' turns pass
     through :class:`~mentor_core.sim.commitment.TurnCommitment` (not in the paper).
+    ``turn_frame="goal"``: the turn output names a heading relative to the goal
+    (:func:`~mentor_core.sim.goal_frame.goal_frame_turns`; not in the paper).
     """
 
     def __init__(
@@ -79,6 +83,7 @@ class NavigationProblem:
         time_budget: float | None = None,
         goal_distance: GoalDistanceKind = "euclidean",
         turn_commitment: bool = False,
+        turn_frame: TurnFrame = "body",
     ) -> None:
         if not scenarios:
             raise ValueError("a NavigationProblem needs at least one scenario")
@@ -91,6 +96,11 @@ class NavigationProblem:
         self.time_budget = time_budget
         self.goal_distance = goal_distance
         self.turn_commitment = turn_commitment
+        if turn_frame not in ("body", "goal"):
+            raise ValueError(f"turn_frame must be body or goal, not {turn_frame!r}")
+        if turn_frame == "goal" and profile.input_encoding != "egocentric":
+            raise ValueError("turn_frame goal needs the egocentric input encoding")
+        self.turn_frame = turn_frame
         self._to_goal: tuple[GoalDistance, ...] = ()
         if goal_distance == "geodesic":
             radius = _INSCRIBED_SHARE * 0.5 * min(profile.length, profile.width)
@@ -127,8 +137,12 @@ class NavigationProblem:
         n = n_scen * len(genomes)
         rule = TurnCommitment(self.profile, n) if self.turn_commitment else None
 
+        goal_frame = self.turn_frame == "goal"
+
         def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
             out = network.activate(inputs, robots // n_scen)
+            if goal_frame:
+                out = goal_frame_turns(out, inputs, self.profile)
             return out if rule is None else rule(out, inputs, robots)
 
         return run_episodes(

@@ -55,7 +55,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "training_worlds": 1, "step_max": None, "step_min": None, "clearance_margin": None,
     "doe": DoEConfig().to_dict(), "families": [], "family_pairs": 5,
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
-    "goal_distance": "euclidean", "turn_commitment": False,
+    "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
 }
 
 
@@ -95,6 +95,11 @@ def make_problem(
         memory_units=config.memory_units,
         source=source,
     )
+    if config.turn_frame == "goal" and config.input_encoding != "egocentric":
+        raise ConfigError(
+            "turns relative to the goal need input_encoding: egocentric", key="turn_frame",
+            path=source,
+        )  # fmt: skip
     count = config.n_scenarios or prof.train_scenarios
     if config.training_worlds > count:
         raise ConfigError(
@@ -117,7 +122,7 @@ def make_problem(
             raise ConfigError(str(err), key="families", path=source) from None
     return NavigationProblem(
         prof, scenarios, time_budget=config.time_budget, goal_distance=config.goal_distance,
-        turn_commitment=config.turn_commitment,
+        turn_commitment=config.turn_commitment, turn_frame=config.turn_frame,
     )
 
 
