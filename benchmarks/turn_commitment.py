@@ -1,7 +1,7 @@
-"""Probe: does an evolved planner stop dithering at walls if it keeps turning one way?
+"""Probe: evolved planners under a rule on their turns, or with Bug's memory as their recovery.
 
     .venv/bin/python benchmarks/turn_commitment.py GENOME [GENOME ...] [--robot ugv]
-        [--split validation] [--pairs-per-family 20] [--rule commit|goal_frame]
+        [--split validation] [--pairs-per-family 20] [--rule commit|goal_frame|bug]
 
 The UGV planners' collisions on the benchmark end in alternating +-45 deg turns at the smallest
 step while the way ahead is blocked (``benchmarks/RESULTS.md``, "Better planners"). This wraps
@@ -13,7 +13,10 @@ overall for each genome, plain and committed. A probe of the hypothesis, not a p
 genomes were trained without the rule. ``--rule goal_frame`` instead reads the turn output as
 a heading relative to the goal (``mentor_core.sim.goal_frame``): the "+goal_frame" line is
 the one for genomes trained with ``turn_frame: goal``; the commitment's "+commit" line is the
-one for genomes trained with ``turn_commitment: true``.
+one for genomes trained with ``turn_commitment: true``. ``--rule bug`` runs the genome as the
+**to goal** controller of the Bug baseline (``bug_policy(..., driver=...)``: the network
+drives until Bug's hit rule fires, Bug follows the obstacle until its leaving rule fires),
+with a line for Bug alone at the genome's limits: Bug's memory as the planner's recovery.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Sequence
 
+from mentor_core.benchmark.bug import bug_policy
 from mentor_core.benchmark.contenders import Contender, evolved
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite
@@ -61,7 +65,16 @@ def goal_framed(contender: Contender) -> Contender:
     return Contender(contender.name + "+goal_frame", contender.kind, contender.profile, make)
 
 
-RULES = {"commit": committed, "goal_frame": goal_framed}
+def with_bug_recovery(contender: Contender) -> Contender:
+    """``contender`` driving the Bug baseline's **to goal** mode (module docstring)."""
+
+    def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
+        return bug_policy(scenarios, profile, driver=contender.policy(scenarios))
+
+    return Contender(contender.name + "+bug", contender.kind, contender.profile, make)
+
+
+RULES = {"commit": committed, "goal_frame": goal_framed, "bug": with_bug_recovery}
 
 
 def main() -> None:
@@ -75,15 +88,18 @@ def main() -> None:
     args = p.parse_args()
     robot = get_profile(args.robot)
     suite = build_suite(robot, args.split, pairs_per_family=args.pairs_per_family)
-    for path in args.genomes:
+    for i, path in enumerate(args.genomes):
         plain = evolved(path, robot)
-        for c in (plain, RULES[args.rule](plain)):
+        variants = [plain, RULES[args.rule](plain)]
+        if args.rule == "bug" and i == 0:
+            variants.append(Contender("bug", "baseline", plain.profile, bug_policy))
+        for c in variants:
             scores = run_contender(suite, c).scores["paper"]
             cells = [f"{f} {100 * s['success']:.0f}" for f, s in scores.items() if f != "overall"]
             o = scores["overall"]
             print(f"{c.name}: success {100 * o['success']:.0f} % collisions "
                   f"{100 * o['collision']:.0f} % timeouts {100 * o['timeout']:.0f} % SPL "
-                  f"{o['spl']:.2f} | {' '.join(cells)}")  # fmt: skip
+                  f"{o['spl']:.2f} | {' '.join(cells)}", flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mentor_core.benchmark.bug import bug_policy
 from mentor_core.benchmark.contenders import Contender, evolved, from_genome, hand_written
 from mentor_core.benchmark.control import (
     Odometry,
@@ -81,6 +82,30 @@ def test_baseline_stops_before_a_wall(robot: str, baseline: str, margin: str | N
     # it did go up to the wall (within four body diagonals of it) before stopping short
     nearest = min(float(np.max(t[:, 0])) for t in batch.trajectories)
     assert wall[0] - nearest < 4 * profile.half_diagonal * 2
+
+
+def test_bug_hands_its_to_goal_mode_to_a_driver_and_takes_over_at_a_wall() -> None:
+    """With a driver that always goes straight on at full step, Bug's hit rule stops it at a
+    wall across the arena (no collision, no arrival) and its following keeps it off."""
+    profile = reference_profile(get_profile("ugv"))
+    size = profile.test_arena
+    world = World(size, np.array([(0.5 * size, 0.0, 0.52 * size, size)]))
+    scenarios = [Scenario(world, (0.2 * size, y * size, 0.0), (0.8 * size, y * size))
+                 for y in (0.3, 0.7)]  # fmt: skip
+    driven: list[int] = []
+
+    def straight_on(inputs: np.ndarray, robots: np.ndarray) -> np.ndarray:
+        driven.append(len(robots))
+        return np.tile([0.5, 1.0], (len(robots), 1))
+
+    policy = bug_policy(scenarios, profile, driver=straight_on)
+    batch = run_episodes(scenarios, profile, policy, time_budgets=30.0)
+    assert not batch.collided.any() and not batch.reached.any()
+    assert driven and sum(driven) < int(batch.steps.sum())  # Bug drove some decisions too
+    # in the open the driver is all there is: it reaches a goal straight ahead
+    free = [Scenario(World(size), (0.2 * size, 0.5 * size, 0.0), (0.8 * size, 0.5 * size))]
+    assert run_episodes(free, profile, bug_policy(free, profile, driver=straight_on),
+                        time_budgets=30.0).reached.all()  # fmt: skip
 
 
 @pytest.mark.parametrize("robot", ROBOTS)

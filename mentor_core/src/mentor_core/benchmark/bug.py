@@ -64,8 +64,15 @@ SENSE = 2.0  # hit points within SENSE d_w are the wall being followed
 _TO_GOAL, _FOLLOW = 0, 1
 
 
-def bug_policy(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
-    """A Bug policy for robot ``i`` on ``scenarios[i]`` (module docstring)."""
+def bug_policy(
+    scenarios: Sequence[Scenario], profile: RobotProfile, driver: Policy | None = None
+) -> Policy:
+    """A Bug policy for robot ``i`` on ``scenarios[i]`` (module docstring).
+
+    ``driver``: another policy (an evolved planner) that drives in the **to goal** mode in
+    place of the straight run at the goal; the hit point, the following and the leaving
+    rules stay Bug's (a hybrid: Bug's memory as the other planner's recovery at walls).
+    """
     n = len(scenarios)
     odometry = Odometry(np.zeros((n, 3)))
     memory = PointMemory(n, profile, MEMORY)
@@ -122,6 +129,10 @@ def bug_policy(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
             else:
                 dtheta[row], ds[row] = _follow(r, points[row], float(ahead[row]))
         outputs = outputs_for(dtheta, ds, profile)
+        if driver is not None:
+            driving = mode[robots] == _TO_GOAL
+            if driving.any():
+                outputs[driving] = driver(inputs[driving], robots[driving])
         before = odometry.poses[robots, :2].copy()
         odometry.advance(robots, outputs, inputs, profile)
         driven[robots] += np.hypot(*(odometry.poses[robots, :2] - before).T)
