@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 from pathlib import Path
 
@@ -136,8 +137,9 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     assert without_seconds(history_rows(tmp_path)) == without_seconds(history_rows(dual_run))
 
 
-def test_pool_backend_is_bit_identical_to_in_process() -> None:
-    config = tiny()
+@pytest.mark.parametrize("extra", [{}, {"goal_distance": "geodesic", "turn_commitment": True}])
+def test_pool_backend_is_bit_identical_to_in_process(extra: dict[str, object]) -> None:
+    config = dataclasses.replace(tiny(), **extra) if extra else tiny()
     problem = make_problem(config)
     from mentor_core.evolution.loop import Evolution
 

@@ -89,6 +89,10 @@ class NavigationProblem:
             raise ValueError("a NavigationProblem needs at least one scenario")
         if goal_distance not in ("euclidean", "geodesic"):
             raise ValueError(f"goal_distance must be euclidean or geodesic, not {goal_distance!r}")
+        if turn_frame not in ("body", "goal"):
+            raise ValueError(f"turn_frame must be body or goal, not {turn_frame!r}")
+        if turn_frame == "goal" and profile.input_encoding != "egocentric":
+            raise ValueError("turn_frame goal needs the egocentric input encoding")
         self.profile = profile
         self.scenarios = tuple(scenarios)
         self.with_experience = with_experience
@@ -96,10 +100,6 @@ class NavigationProblem:
         self.time_budget = time_budget
         self.goal_distance = goal_distance
         self.turn_commitment = turn_commitment
-        if turn_frame not in ("body", "goal"):
-            raise ValueError(f"turn_frame must be body or goal, not {turn_frame!r}")
-        if turn_frame == "goal" and profile.input_encoding != "egocentric":
-            raise ValueError("turn_frame goal needs the egocentric input encoding")
         self.turn_frame = turn_frame
         self._to_goal: tuple[GoalDistance, ...] = ()
         if goal_distance == "geodesic":
@@ -136,7 +136,6 @@ class NavigationProblem:
         network = BatchNetwork.from_genomes(genomes)
         n = n_scen * len(genomes)
         rule = TurnCommitment(self.profile, n) if self.turn_commitment else None
-
         goal_frame = self.turn_frame == "goal"
 
         def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
