@@ -47,7 +47,7 @@ class GoalDistance:
 
     def __call__(self, points: ArrayLike) -> FloatArray:
         """``(m,)`` distances from ``points`` (the first two values of each row, m)."""
-        p = np.asarray(points, dtype=np.float64).reshape(len(np.atleast_2d(points)), -1)[:, :2]
+        p = np.atleast_2d(np.asarray(points, dtype=np.float64))[:, :2]
         out = np.full(len(p), np.inf)
         free = self.graph.free(p)
         if not self._goal_free or not free.any():

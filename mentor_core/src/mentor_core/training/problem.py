@@ -104,9 +104,10 @@ class NavigationProblem:
         self._to_goal: tuple[GoalDistance, ...] = ()
         if goal_distance == "geodesic":
             radius = _INSCRIBED_SHARE * 0.5 * min(profile.length, profile.width)
-            graphs: dict[int, VisibilityGraph] = {}
+            graphs: dict[int, VisibilityGraph] = {}  # one per world object, built once
             for sc in self.scenarios:
-                graphs.setdefault(id(sc.world), VisibilityGraph(sc.world, radius))
+                if id(sc.world) not in graphs:
+                    graphs[id(sc.world)] = VisibilityGraph(sc.world, radius)
             self._to_goal = tuple(
                 GoalDistance(graphs[id(sc.world)], sc.goal, profile.goal_radius)
                 for sc in self.scenarios
