@@ -132,6 +132,7 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     del state["sensors"]
     for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe"):
         del state["config"][key]
+    del state["config"]["evolution"]["mutation"]["recurrent_rate"]
     checkpoint.write_text(json.dumps(state))
     train(tiny(), tmp_path, seed=3, resume=True)
     assert without_seconds(history_rows(tmp_path)) == without_seconds(history_rows(dual_run))

@@ -85,9 +85,6 @@ def from_genome(genome: Genome, profile: RobotProfile, name: str, source: str = 
     network = FeedForwardNetwork.from_genome(genome)
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
-        def policy(inputs: FloatArray, robots: IntArray) -> FloatArray:
-            return network.activate(inputs)
-
-        return policy
+        return network.episode_policy(len(scenarios))
 
     return Contender(name, "evolved", profile, make, source)

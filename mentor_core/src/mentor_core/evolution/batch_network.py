@@ -15,7 +15,10 @@ The program (CSR arrays, one entry per computed node that reaches an output):
   :data:`mentor_core.evolution.network.ACTIVATION_NAMES`) and its enabled incoming connections
   (source row, weight) in genome order;
 * a robot of genome ``g`` owns ``n_rows[g]`` consecutive values: its inputs, the bias 1.0,
-  then the node values in program order (source rows are relative to that block).
+  then the node values in program order (source rows are relative to that block); a genome
+  with recurrent connections has twice ``block[g]`` values, the second half the previous
+  decision's values of the first (a recurrent source row is ``block[g]`` + the row), copied
+  in from the caller's memory before the decision and back out after it.
 
 Per decision and level, the weighted sums of all robots' nodes of that level are computed in
 the fixed order of :mod:`mentor_core.evolution.network` (``s = w_1 v_1``, then
@@ -166,7 +169,10 @@ class BatchNetwork:
     Attributes:
         n_inputs, n_outputs: shared by all genomes (bias excluded from ``n_inputs``).
         n_levels: the deepest genome's number of levels above the inputs.
-        n_rows: (G,) values per robot of each genome: inputs, bias, computed nodes.
+        n_rows: (G,) values per robot of each genome: inputs, bias, computed nodes (and
+            their previous values, for a recurrent genome).
+        block: (G,) inputs, bias and computed nodes of each genome (``n_rows`` without the
+            previous values).
         level_ptr: (G, n_levels + 1) first node of each genome at each level; row ``g`` ends
             with the end of genome ``g``'s nodes.
         node_code: (N,) activation code of each node.
@@ -181,6 +187,7 @@ class BatchNetwork:
     n_outputs: int
     n_levels: int
     n_rows: IntArray
+    block: IntArray
     level_ptr: IntArray
     node_code: IntArray
     edge_ptr: IntArray
@@ -193,6 +200,17 @@ class BatchNetwork:
     def n_genomes(self) -> int:
         """Number of genomes G."""
         return int(self.n_rows.shape[0])
+
+    @property
+    def memory_width(self) -> int:
+        """Values per robot of the memory recurrent genomes keep (0: all feed-forward)."""
+        delayed = self.n_rows != self.block
+        return int(self.block[delayed].max(initial=0))
+
+    def new_memory(self, n_slots: int) -> FloatArray:
+        """A blank memory for ``n_slots`` robots, ``(n_slots, memory_width)`` zeros: as before
+        a first decision (:meth:`activate`)."""
+        return np.zeros((n_slots, self.memory_width), dtype=np.float64)
 
     @classmethod
     def from_genomes(cls, genomes: Sequence[Genome]) -> BatchNetwork:
@@ -229,7 +247,11 @@ class BatchNetwork:
             n_inputs=n_in,
             n_outputs=n_out,
             n_levels=n_levels,
-            n_rows=np.array([n_fixed + len(p.codes) for p in per_genome], dtype=np.int64),
+            n_rows=np.array(
+                [(2 if p.recurrent else 1) * (n_fixed + len(p.codes)) for p in per_genome],
+                dtype=np.int64,
+            ),
+            block=np.array([n_fixed + len(p.codes) for p in per_genome], dtype=np.int64),
             level_ptr=level_ptr,
             node_code=np.array([c for p in per_genome for c in p.codes], dtype=np.int64),
             edge_ptr=np.concatenate([[0], np.cumsum(degrees, dtype=np.int64)]),
@@ -240,14 +262,20 @@ class BatchNetwork:
         )
 
     def activate(
-        self, inputs: ArrayLike, owners: ArrayLike, *, backend: Backend = "auto"
+        self, inputs: ArrayLike, owners: ArrayLike, *, backend: Backend = "auto",
+        memory: FloatArray | None = None, slots: ArrayLike | None = None,
     ) -> FloatArray:
         """Outputs ``(m, n_outputs)`` of ``m`` robots: row ``r`` is genome ``owners[r]``'s
         network on ``inputs[r]`` (``(m, n_inputs)``), bit-identical to
         ``FeedForwardNetwork.activate`` of that genome on that row.
 
         ``backend``: ``"numba"``, ``"numpy"`` or ``"auto"`` (numba when importable); both give
-        the same bits.
+        the same bits. With recurrent genomes, ``memory`` (:meth:`new_memory`) holds every
+        robot's previous values, robot ``r`` in row ``slots[r]``: read, then overwritten with
+        this decision's values (rows of feed-forward genomes' robots are left alone).
+
+        Raises ValueError for mismatched shapes, owners out of range, or recurrent genomes
+        without ``memory`` and ``slots``.
         """
         x = np.ascontiguousarray(inputs, dtype=np.float64)
         own = np.ascontiguousarray(owners, dtype=np.int64).reshape(-1)
@@ -269,9 +297,41 @@ class BatchNetwork:
         multiplicity = np.bincount(own, minlength=self.n_genomes)
         counts = (multiplicity @ self.code_counts.reshape(self.n_genomes, -1)).reshape(-1)
         bounds = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-        if numba:
-            return self._run_numba(x, own, offsets, values, bounds)
-        return self._run_numpy(x, own, offsets, values, bounds)
+        carried = self._carried(own, offsets, memory, slots)
+        if carried is not None:  # the previous values go to each block's second half
+            at, row, col, half = carried
+            values[at + half] = memory[row, col]  # type: ignore[index]
+        run = self._run_numba if numba else self._run_numpy
+        out = run(x, own, offsets, values, bounds)
+        if carried is not None:
+            memory[row, col] = values[at]  # type: ignore[index]
+        return out
+
+    def _carried(
+        self, owners: IntArray, offsets: IntArray, memory: FloatArray | None,
+        slots: ArrayLike | None,
+    ) -> tuple[IntArray, IntArray, IntArray, IntArray] | None:
+        """For the robots of recurrent genomes: each block value's index in ``values`` (first
+        half), its memory row and column, and the offset of its previous value; None when
+        none of these robots has a recurrent genome."""
+        delayed = np.flatnonzero(self.n_rows[owners] != self.block[owners])
+        if delayed.size == 0:
+            return None
+        if memory is None or slots is None:
+            raise ValueError("recurrent genomes need memory= (new_memory) and slots=")
+        where = np.ascontiguousarray(slots, dtype=np.int64).reshape(-1)
+        if where.shape[0] != owners.shape[0]:
+            raise ValueError(f"slots must have shape ({owners.shape[0]},), got {where.shape}")
+        width = self.memory_width
+        if memory.ndim != 2 or memory.shape[1] != width:
+            raise ValueError(f"memory must have shape (n, {width}), got {memory.shape}")
+        if where[delayed].min() < 0 or where[delayed].max() >= memory.shape[0]:
+            raise ValueError(f"slots must lie in [0, {memory.shape[0]})")
+        sizes = self.block[owners[delayed]]
+        robot = np.repeat(delayed, sizes)
+        col = np.arange(robot.shape[0]) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+        half = np.repeat(sizes, sizes)
+        return offsets[robot] + col, where[robot], col, half
 
     def _run_numba(
         self, x: FloatArray, owners: IntArray, offsets: IntArray, values: FloatArray,
@@ -378,6 +438,7 @@ class _GenomeProgram:
     sources: list[int]
     weights: list[float]
     output_rows: list[int]
+    recurrent: bool
 
 
 def _genome_program(genome: Genome, n_fixed: int) -> _GenomeProgram:
@@ -385,12 +446,21 @@ def _genome_program(genome: Genome, n_fixed: int) -> _GenomeProgram:
     (:func:`mentor_core.evolution.network.plan_nodes`), rows renumbered to the robot's block
     (inputs, bias, then the nodes in program order)."""
     planned, outputs = plan_nodes(genome)
+    n_genome = len(genome.nodes)  # a source row past it is a previous value (recurrent)
     level_of_row = dict.fromkeys(range(n_fixed), 0)
-    for node in planned:  # topological order: sources come first
-        level_of_row[node.row] = 1 + max([level_of_row[s] for s in node.sources], default=0)
+    for node in planned:  # topological order: sources come first; previous values at level 0
+        level_of_row[node.row] = 1 + max(
+            [level_of_row[s] for s in node.sources if s < n_genome], default=0
+        )
     nodes = sorted(planned, key=lambda p: level_of_row[p.row])  # stable: topological in a level
     block_row = {r: r for r in range(n_fixed)}  # inputs and bias keep their rows
     block_row.update({p.row: n_fixed + k for k, p in enumerate(nodes)})
+    n_block = n_fixed + len(nodes)
+
+    def source_row(s: int) -> int:
+        return block_row[s] if s < n_genome else n_block + block_row[s - n_genome]
+
+    sources = [source_row(s) for p in nodes for s in p.sources]
     levels = [level_of_row[p.row] for p in nodes]
     n_levels = levels[-1] if levels else 0
     return _GenomeProgram(
@@ -398,7 +468,8 @@ def _genome_program(genome: Genome, n_fixed: int) -> _GenomeProgram:
         level_sizes=[levels.count(lev) for lev in range(1, n_levels + 1)],
         codes=[p.code for p in nodes],
         degrees=[len(p.sources) for p in nodes],
-        sources=[block_row[s] for p in nodes for s in p.sources],
+        sources=sources,
         weights=[w for p in nodes for w in p.weights],
         output_rows=[block_row[r] for r in outputs],
+        recurrent=any(s >= n_block for s in sources),
     )

@@ -4,11 +4,14 @@ Paper, section II "Crossover and Mutation" (after Stanley & Miikkulainen 2002): 
 go to the child from either parent at random; disjoint and excess genes come only from the
 parent with the better rank, or from either parent at random when both have the same rank.
 A matching gene disabled in either parent is disabled in the child with probability 0.75.
-The child never contains a cycle: genes are taken in innovation order and one that would
-close a cycle with those already taken is skipped.
+The child never contains a cycle: genes are taken in innovation order and a forward gene that
+would close a cycle with those already taken is skipped (recurrent genes are delayed and close
+none).
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 
@@ -41,6 +44,7 @@ def crossover(a: Genome, b: Genome, a_better: bool | None, rng: np.random.Genera
     disable = rng.random(len(innovations)) < DISABLED_INHERIT_PROB
     keep_lone = rng.random(len(innovations)) < 0.5
     succ: dict[int, set[int]] = {}
+    delayed: set[tuple[int, int]] = set()
     child: list[ConnectionGene] = []
     for k, innovation in enumerate(innovations):
         gene = _inherit(
@@ -51,7 +55,14 @@ def crossover(a: Genome, b: Genome, a_better: bool | None, rng: np.random.Genera
             bool(disable[k]),
             bool(keep_lone[k]),
         )
-        if gene is None or gene.out_node in succ.get(gene.in_node, ()):
+        if gene is None:
+            continue
+        if gene.recurrent:
+            if (gene.in_node, gene.out_node) not in delayed:
+                delayed.add((gene.in_node, gene.out_node))
+                child.append(gene)
+            continue
+        if gene.out_node in succ.get(gene.in_node, ()):
             continue
         if has_path(succ, gene.out_node, gene.in_node):
             continue  # would close a cycle with the genes already inherited
@@ -75,9 +86,7 @@ def _inherit(
         if not (ga.enabled and gb.enabled):
             enabled = not disable
             if gene.enabled != enabled:
-                gene = ConnectionGene(
-                    gene.innovation, gene.in_node, gene.out_node, gene.weight, enabled
-                )
+                gene = replace(gene, enabled=enabled)
         return gene
     if a_better is None:
         lone = ga if ga is not None else gb

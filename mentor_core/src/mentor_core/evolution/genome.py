@@ -8,9 +8,14 @@ Node id layout (fixed for every genome of a run, so genomes align without a look
 * hidden nodes above that, ids handed out by the run's
   :class:`~mentor_core.evolution.innovation.InnovationTracker`.
 
-Connection genes carry ``(innovation, in_node, out_node, weight, enabled)``; the network is
-feed-forward, so no set of connection genes (enabled or disabled) may contain a cycle: a
-disabled gene can be re-enabled by crossover, so it must never close one either.
+Connection genes carry ``(innovation, in_node, out_node, weight, enabled, recurrent)``. The
+forward genes (``recurrent`` False) make a feed-forward network, so no set of them (enabled or
+disabled) may contain a cycle: a disabled gene can be re-enabled by crossover, so it must
+never close one either. A recurrent gene reads its source's value of the previous decision (a
+one-step delay, as NEAT's recurrent links), so it may point anywhere, backwards or to its own
+node, and never takes part in a cycle; it may not start at the bias (whose value never
+changes). The paper's planners are feed-forward; recurrent genes only appear when
+``MutationConfig.recurrent_rate`` is above 0.
 """
 
 from __future__ import annotations
@@ -45,13 +50,15 @@ class NodeGene:
 
 @dataclass(frozen=True, slots=True)
 class ConnectionGene:
-    """One weighted edge ``in_node -> out_node`` with its historical marking."""
+    """One weighted edge ``in_node -> out_node`` with its historical marking; ``recurrent``:
+    the edge carries ``in_node``'s value of the previous decision (module docstring)."""
 
     innovation: int
     in_node: int
     out_node: int
     weight: float
     enabled: bool = True
+    recurrent: bool = False
 
 
 @dataclass(frozen=True)
@@ -97,6 +104,11 @@ class Genome:
     def node_ids(self) -> frozenset[int]:
         """Ids of all nodes."""
         return frozenset(n.id for n in self.nodes)
+
+    @property
+    def is_recurrent(self) -> bool:
+        """Whether an enabled recurrent gene gives the network a memory of past decisions."""
+        return any(c.recurrent and c.enabled for c in self.connections)
 
     @property
     def enabled_connections(self) -> tuple[ConnectionGene, ...]:
@@ -160,8 +172,10 @@ def genome_from_edges(
     *,
     hidden_activation: str = "sigmoid",
     output_activation: str = "sigmoid",
+    recurrent: Iterable[tuple[int, int, float]] = (),
 ) -> Genome:
-    """A validated genome from ``(in, out, weight[, enabled])`` edges, innovation = position.
+    """A validated genome from ``(in, out, weight[, enabled])`` edges, innovation = position;
+    the ``recurrent`` edges ``(in, out, weight)`` follow them.
 
     Hidden nodes are the referenced ids at or above the first hidden id. Meant for tests,
     examples and hand-built networks; evolved genomes get innovations from a tracker.
@@ -170,6 +184,9 @@ def genome_from_edges(
     for k, edge in enumerate(edges):
         enabled = bool(edge[3]) if len(edge) == 4 else True
         connections.append(ConnectionGene(k, int(edge[0]), int(edge[1]), float(edge[2]), enabled))
+    for a, b, w in recurrent:
+        k = len(connections)
+        connections.append(ConnectionGene(k, int(a), int(b), float(w), recurrent=True))
     first_hidden = n_inputs + 1 + n_outputs
     nodes = _fixed_nodes(n_inputs, n_outputs, output_activation)
     hidden = {e for c in connections for e in (c.in_node, c.out_node) if e >= first_hidden}
@@ -189,10 +206,12 @@ def _fixed_nodes(n_inputs: int, n_outputs: int, output_activation: str) -> list[
 
 
 def adjacency(connections: Iterable[ConnectionGene]) -> dict[int, set[int]]:
-    """Successor sets ``{in_node: {out_node, ...}}`` of all genes, enabled or not."""
+    """Successor sets ``{in_node: {out_node, ...}}`` of all forward genes, enabled or not
+    (recurrent genes are delayed and close no cycle)."""
     succ: dict[int, set[int]] = {}
     for c in connections:
-        succ.setdefault(c.in_node, set()).add(c.out_node)
+        if not c.recurrent:
+            succ.setdefault(c.in_node, set()).add(c.out_node)
     return succ
 
 
@@ -213,7 +232,8 @@ def has_path(succ: Mapping[int, Iterable[int]], start: int, target: int) -> bool
 
 
 def creates_cycle(connections: Iterable[ConnectionGene], in_node: int, out_node: int) -> bool:
-    """Whether adding ``in_node -> out_node`` to ``connections`` would close a directed cycle.
+    """Whether adding the forward edge ``in_node -> out_node`` to ``connections`` would close a
+    directed cycle of forward genes.
 
     Disabled genes count too, since crossover may re-enable them.
     """
@@ -250,7 +270,8 @@ def validate_genome(genome: Genome) -> None:
         )
     _check_nodes(genome)
     _check_connections(genome, genome.nodes)
-    topological_order(genome.node_ids, ((c.in_node, c.out_node) for c in genome.connections))
+    forward = ((c.in_node, c.out_node) for c in genome.connections if not c.recurrent)
+    topological_order(genome.node_ids, forward)
 
 
 def _check_nodes(genome: Genome) -> None:
@@ -286,8 +307,10 @@ def _check_connections(genome: Genome, nodes: Sequence[NodeGene]) -> None:
         raise InvalidGenomeError("duplicate connection innovation numbers")
     if innovations != sorted(innovations):
         raise InvalidGenomeError("connections are not sorted by innovation")
-    pairs: set[tuple[int, int]] = set()
+    pairs: set[tuple[int, int, bool]] = set()
     for c in genome.connections:
+        if not isinstance(c.recurrent, bool):
+            raise InvalidGenomeError(f"connection {c.innovation}: recurrent must be a bool")
         for end in (c.in_node, c.out_node):
             if end not in kinds:
                 raise InvalidGenomeError(f"connection {c.innovation} refers to missing node {end}")
@@ -295,8 +318,11 @@ def _check_connections(genome: Genome, nodes: Sequence[NodeGene]) -> None:
             raise InvalidGenomeError(
                 f"connection {c.innovation} ends in {kinds[c.out_node]} node {c.out_node}"
             )
-        if (c.in_node, c.out_node) in pairs:
-            raise InvalidGenomeError(f"two connections {c.in_node} -> {c.out_node}")
-        pairs.add((c.in_node, c.out_node))
+        if c.recurrent and kinds[c.in_node] == "bias":
+            raise InvalidGenomeError(f"recurrent connection {c.innovation} starts at the bias")
+        if (c.in_node, c.out_node, c.recurrent) in pairs:
+            kind = "recurrent " if c.recurrent else ""
+            raise InvalidGenomeError(f"two {kind}connections {c.in_node} -> {c.out_node}")
+        pairs.add((c.in_node, c.out_node, c.recurrent))
         if not np.isfinite(c.weight):
             raise InvalidGenomeError(f"connection {c.innovation} has weight {c.weight}")

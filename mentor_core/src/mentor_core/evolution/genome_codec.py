@@ -8,6 +8,9 @@ Format ``mentor-genome`` version 1::
      "connections": [{"innovation": 0, "in": 0, "out": 12, "weight": 0.5, "enabled": true}, ...],
      "metadata": {...}}
 
+A recurrent connection gene also has ``"recurrent": true``; the key is left out of forward
+genes, so feed-forward genomes are written as before.
+
 Genome files (:mod:`mentor_core.files.genome_file`), checkpoints and run files hold genomes in
 this form. Every parse fault is a :class:`~mentor_core.errors.FileFormatError` naming the source
 and the fault (wrong format or version, missing or ill-typed field, NaN/inf weight, unknown
@@ -48,6 +51,7 @@ _TOP_KEYS = frozenset(
 )
 _NODE_KEYS = frozenset({"id", "kind", "activation"})
 _CONNECTION_KEYS = frozenset({"innovation", "in", "out", "weight", "enabled"})
+_CONNECTION_OPTIONAL = frozenset({"recurrent"})
 
 
 class _Fault(Exception):
@@ -63,18 +67,22 @@ def genome_to_dict(genome: Genome, metadata: Mapping[str, Any] | None = None) ->
         "n_outputs": genome.n_outputs,
         "hidden_activation": genome.hidden_activation,
         "nodes": [{"id": n.id, "kind": n.kind, "activation": n.activation} for n in genome.nodes],
-        "connections": [
-            {
-                "innovation": c.innovation,
-                "in": c.in_node,
-                "out": c.out_node,
-                "weight": c.weight,
-                "enabled": c.enabled,
-            }
-            for c in genome.connections
-        ],
+        "connections": [_connection_dict(c) for c in genome.connections],
         "metadata": dict(metadata or {}),
     }
+
+
+def _connection_dict(c: ConnectionGene) -> dict[str, Any]:
+    entry: dict[str, Any] = {
+        "innovation": c.innovation,
+        "in": c.in_node,
+        "out": c.out_node,
+        "weight": c.weight,
+        "enabled": c.enabled,
+    }
+    if c.recurrent:
+        entry["recurrent"] = True
+    return entry
 
 
 def genome_from_dict(d: Any, source: str = "<dict>") -> Genome:
@@ -134,7 +142,7 @@ def _node(entry: Any, k: int) -> NodeGene:
 
 def _connection(entry: Any, k: int) -> ConnectionGene:
     where = f"connections[{k}]"
-    _check_keys(entry, _CONNECTION_KEYS, where)
+    _check_keys(entry, _CONNECTION_KEYS, where, _CONNECTION_OPTIONAL)
     weight = entry["weight"]
     if isinstance(weight, bool) or not isinstance(weight, int | float):
         raise _Fault(f"{where}.weight must be a number, got {weight!r}")
@@ -147,22 +155,28 @@ def _connection(entry: Any, k: int) -> ConnectionGene:
     enabled = entry["enabled"]
     if not isinstance(enabled, bool):
         raise _Fault(f"{where}.enabled must be true or false, got {enabled!r}")
+    recurrent = entry.get("recurrent", False)
+    if not isinstance(recurrent, bool):
+        raise _Fault(f"{where}.recurrent must be true or false, got {recurrent!r}")
     return ConnectionGene(
         _int(entry["innovation"], f"{where}.innovation"),
         _int(entry["in"], f"{where}.in"),
         _int(entry["out"], f"{where}.out"),
         value,
         enabled,
+        recurrent,
     )
 
 
-def _check_keys(entry: Any, keys: frozenset[str], where: str) -> None:
+def _check_keys(
+    entry: Any, keys: frozenset[str], where: str, optional: frozenset[str] = frozenset()
+) -> None:
     if not isinstance(entry, dict):
         raise _Fault(f"{where} must be an object")
     missing = sorted(keys - entry.keys())
     if missing:
         raise _Fault(f"{where} is missing {', '.join(missing)}")
-    unknown = sorted(str(k) for k in entry.keys() - keys)
+    unknown = sorted(str(k) for k in entry.keys() - keys - optional)
     if unknown:
         raise _Fault(f"{where} has unknown keys {', '.join(unknown)}")
 

@@ -2,7 +2,8 @@
 
 NEAT (Stanley & Miikkulainen 2002) gives every structural innovation a number so that
 crossover can align genes by history. Here the number of a connection gene is a function of
-its ``(in_node, out_node)`` pair for the whole run, so two genomes that grow the same edge,
+its ``(in_node, out_node)`` pair for the whole run (a recurrent edge of the same pair is
+another gene, with its own number), so two genomes that grow the same edge,
 whenever they do so, carry the same gene. Splitting an edge gets a fresh node id, except that
 the same edge split twice within one generation gets the same node id (and therefore the same
 two new connection genes), as in the original NEAT.
@@ -36,6 +37,7 @@ class InnovationTracker:
         self._next_node_id = next_node_id
         self._next_innovation = next_innovation
         self._connections: dict[tuple[int, int], int] = {}
+        self._recurrent: dict[tuple[int, int], int] = {}  # recurrent genes, their own numbers
         # split cache: connection innovation -> node id, forgotten every generation
         self._splits: dict[int, int] = {}
 
@@ -49,14 +51,16 @@ class InnovationTracker:
         """The innovation number the next new ``(in, out)`` pair will get."""
         return self._next_innovation
 
-    def connection(self, in_node: int, out_node: int) -> int:
-        """Innovation number of the edge ``in_node -> out_node`` (new pairs get the next one)."""
+    def connection(self, in_node: int, out_node: int, recurrent: bool = False) -> int:
+        """Innovation number of the edge ``in_node -> out_node`` (new pairs get the next one);
+        a recurrent edge is another gene than the forward edge of the same pair."""
+        table = self._recurrent if recurrent else self._connections
         key = (int(in_node), int(out_node))
-        innovation = self._connections.get(key)
+        innovation = table.get(key)
         if innovation is None:
             innovation = self._next_innovation
             self._next_innovation += 1
-            self._connections[key] = innovation
+            table[key] = innovation
         return innovation
 
     def split(self, connection_innovation: int, taken_nodes: Collection[int]) -> int:
@@ -79,7 +83,7 @@ class InnovationTracker:
 
     def to_state(self) -> dict[str, Any]:
         """JSON-serialisable state; :meth:`from_state` rebuilds an equal tracker."""
-        return {
+        state: dict[str, Any] = {
             "format": STATE_FORMAT,
             "version": STATE_VERSION,
             "next_node_id": self._next_node_id,
@@ -87,6 +91,9 @@ class InnovationTracker:
             "connections": [[i, o, n] for (i, o), n in sorted(self._connections.items())],
             "splits": [[c, n] for c, n in sorted(self._splits.items())],
         }
+        if self._recurrent:  # absent for feed-forward runs: their checkpoints stay as they were
+            state["recurrent"] = [[i, o, n] for (i, o), n in sorted(self._recurrent.items())]
+        return state
 
     @classmethod
     def from_state(cls, d: Mapping[str, Any], source: str = "<state>") -> InnovationTracker:
@@ -104,12 +111,15 @@ class InnovationTracker:
             for row in d["connections"]:
                 i, o, n = (_int(v) for v in row)
                 tracker._connections[(i, o)] = n
+            for row in d.get("recurrent", ()):
+                i, o, n = (_int(v) for v in row)
+                tracker._recurrent[(i, o)] = n
             for row in d["splits"]:
                 c, n = (_int(v) for v in row)
                 tracker._splits[c] = n
         except (KeyError, TypeError, ValueError) as err:
             raise FileFormatError(source, f"bad innovation state: {err!r}") from None
-        numbers = list(tracker._connections.values())
+        numbers = [*tracker._connections.values(), *tracker._recurrent.values()]
         too_big = any(n >= tracker._next_innovation for n in numbers)
         if len(set(numbers)) != len(numbers) or too_big:
             raise FileFormatError(source, "innovation numbers repeat or reach next_innovation")

@@ -16,7 +16,14 @@ One call applies, in this order:
 3. add edge: every non-input node ``b`` (hidden or output, in id order) draws, with
    probability ``edge_rate``, one new incoming edge ``a -> b`` from a source picked uniformly
    among the candidates: ``a != b``, no gene ``a -> b`` yet (enabled or not) and no path
-   ``b -> a`` (no cycle, counting the edges added before it), weight N(0, ``weight_init_sigma``).
+   ``b -> a`` (no cycle, counting the edges added before it), weight N(0, ``weight_init_sigma``);
+4. add recurrent edge (only when ``recurrent_rate > 0``; the paper's planners are
+   feed-forward): every non-input node ``b`` draws, with probability ``recurrent_rate``, one
+   new recurrent in-edge ``a -> b`` (``a``'s value of the previous decision) from a source
+   picked uniformly among every node but the bias, ``b`` itself included, that has no
+   recurrent gene ``a -> b`` yet; weight N(0, ``weight_init_sigma``).
+
+Add-node splits recurrent edges too: ``in -> new`` keeps the delay, ``new -> out`` is forward.
 
 The paper applies add-edge "to different pairs of nodes" with Table I's rate (0.03 UGV, 0.5
 Swarm-Robot). Read as one coin per node pair, the number of new edges grows with the square of
@@ -27,6 +34,7 @@ aim, variation proportional to the network's size, for all three operators.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Annotated
 
 import numpy as np
@@ -54,6 +62,8 @@ class MutationConfig:
     """Mutation probabilities and weight parameters (defaults: the paper's UGV case).
 
     ``max_hidden`` (None: no limit) stops add-node once a genome has that many hidden nodes.
+    ``recurrent_rate`` (0: the paper's feed-forward planners) is the per-node probability of
+    a new recurrent in-edge (module docstring, step 4).
     The paper's per-edge add-node rate makes the expected growth proportional to the size, so
     sizes grow geometrically along a lineage when nothing selects against them (stage 2 and
     XOR have no complexity pressure): an evaluation cost that doubles every few generations.
@@ -67,15 +77,19 @@ class MutationConfig:
     node_rate: Rate = 0.05
     edge_rate: Rate = 0.03
     max_hidden: Annotated[Int, Field(ge=0)] | None = None
+    recurrent_rate: Rate = 0.0
 
 
 def mutate(
     genome: Genome, cfg: MutationConfig, tracker: InnovationTracker, rng: np.random.Generator
 ) -> Genome:
-    """A mutated copy of ``genome`` (weights, then add-node, then add-edge; see module doc)."""
+    """A mutated copy of ``genome`` (weights, add-node, add-edge, add recurrent edge; see the
+    module doc)."""
     connections = mutate_weights(genome.connections, cfg, rng)
     connections, nodes = _add_nodes(genome, connections, cfg, tracker, rng)
     connections = _add_edges(connections, nodes, cfg, tracker, rng)
+    if cfg.recurrent_rate > 0:  # no draw otherwise: feed-forward runs keep their random stream
+        connections = _add_recurrent_edges(connections, nodes, cfg, tracker, rng)
     return genome.with_connections(connections, nodes)
 
 
@@ -100,13 +114,13 @@ def mutate_weights(
     """Per-edge weight mutation: perturb (or, rarely, replace) each weight w.p. ``weight_rate``."""
     n = len(connections)
     hit = rng.random(n) < cfg.weight_rate
-    replace = rng.random(n) < cfg.weight_replace_rate
+    renew = rng.random(n) < cfg.weight_replace_rate
     fresh = rng.normal(0.0, cfg.weight_init_sigma, size=n)
     noise = rng.normal(0.0, cfg.weight_perturb_sigma, size=n)
     old = np.array([c.weight for c in connections], dtype=np.float64)
-    new = np.clip(np.where(replace, fresh, old + noise), -cfg.weight_max, cfg.weight_max)
+    new = np.clip(np.where(renew, fresh, old + noise), -cfg.weight_max, cfg.weight_max)
     return [
-        ConnectionGene(c.innovation, c.in_node, c.out_node, float(w), c.enabled) if h else c
+        replace(c, weight=float(w)) if h else c
         for c, h, w in zip(connections, hit, new, strict=True)
     ]
 
@@ -133,8 +147,14 @@ def _add_nodes(
         node = tracker.split(c.innovation, taken)
         taken.add(node)
         nodes.append(NodeGene(node, "hidden", genome.hidden_activation))
-        out.append(ConnectionGene(c.innovation, c.in_node, c.out_node, c.weight, False))
-        out.append(ConnectionGene(tracker.connection(c.in_node, node), c.in_node, node, 1.0))
+        out.append(replace(c, enabled=False))
+        delayed = c.recurrent  # the new node's in-edge keeps a recurrent edge's delay
+        out.append(
+            ConnectionGene(
+                tracker.connection(c.in_node, node, delayed), c.in_node, node, 1.0,
+                recurrent=delayed,
+            )
+        )  # fmt: skip
         out.append(
             ConnectionGene(tracker.connection(node, c.out_node), node, c.out_node, c.weight)
         )
@@ -163,6 +183,32 @@ def _add_edges(
         w = float(np.clip(rng.normal(0.0, cfg.weight_init_sigma), -cfg.weight_max, cfg.weight_max))
         succ.setdefault(a, set()).add(b)
         out.append(ConnectionGene(tracker.connection(a, b), a, b, w))
+    return out
+
+
+def _add_recurrent_edges(
+    connections: list[ConnectionGene],
+    nodes: list[NodeGene],
+    cfg: MutationConfig,
+    tracker: InnovationTracker,
+    rng: np.random.Generator,
+) -> list[ConnectionGene]:
+    """Give each non-input node, with probability ``recurrent_rate``, one new recurrent
+    in-edge from any node but the bias (itself included)."""
+    ordered = sorted(nodes, key=lambda n: n.id)
+    ids = [n.id for n in ordered if n.kind != "bias"]
+    targets = [n.id for n in ordered if n.kind in ("output", "hidden")]
+    draws = rng.random(len(targets))
+    have = {(c.in_node, c.out_node) for c in connections if c.recurrent}
+    out = list(connections)
+    for b in (b for b, u in zip(targets, draws, strict=True) if u < cfg.recurrent_rate):
+        sources = [a for a in ids if (a, b) not in have]
+        if not sources:
+            continue
+        a = sources[int(rng.integers(len(sources)))]
+        w = float(np.clip(rng.normal(0.0, cfg.weight_init_sigma), -cfg.weight_max, cfg.weight_max))
+        have.add((a, b))
+        out.append(ConnectionGene(tracker.connection(a, b, True), a, b, w, recurrent=True))
     return out
 
 

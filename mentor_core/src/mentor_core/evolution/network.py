@@ -5,6 +5,11 @@ connections; the bias node has the constant value 1.0 (appended to the inputs in
 inputs and bias use the identity. A node without enabled incoming connections outputs
 ``f_j(0)``. Nodes that cannot influence an output are not evaluated.
 
+A recurrent connection (``ConnectionGene.recurrent``) reads its source's value of the
+previous decision, ``y_i(t - 1)``, instead of ``y_i(t)``; those values are the *memory* a
+caller keeps per robot (zeros before the first decision) and passes to ``activate``, which
+overwrites it with this decision's values. Within a decision the network stays feed-forward.
+
 The sum has a fixed order, so a sample's outputs never depend on the rest of its batch: the
 enabled incoming connections in genome order (by innovation), ``s = w_1 y_1``, then
 ``s = s + w_i y_i`` for ``i = 2, 3, ...`` (each product and each sum rounded, no fused
@@ -95,12 +100,24 @@ class FeedForwardNetwork:
         n_rows: int,
         steps: tuple[_NodeEval, ...],
         output_rows: NDArray[np.intp],
+        recurrent: bool = False,
     ) -> None:
         self.n_inputs = n_inputs
         self.n_outputs = n_outputs
         self._n_rows = n_rows
         self._steps = steps
         self._output_rows = output_rows
+        self.recurrent = recurrent
+
+    @property
+    def memory_width(self) -> int:
+        """Values per robot of the memory a recurrent network keeps (0: feed-forward)."""
+        return self._n_rows if self.recurrent else 0
+
+    def new_memory(self, batch: int = 1) -> FloatArray:
+        """A blank memory ``(batch, memory_width)`` for ``batch`` robots: zeros, as before a
+        first decision."""
+        return np.zeros((batch, self.memory_width), dtype=np.float64)
 
     @classmethod
     def from_genome(cls, genome: Genome) -> FeedForwardNetwork:
@@ -119,33 +136,71 @@ class FeedForwardNetwork:
             for p in planned
         )
         output_rows = np.array(outputs, dtype=np.intp)
-        return cls(genome.n_inputs, genome.n_outputs, len(genome.nodes), steps, output_rows)
+        n_rows = len(genome.nodes)
+        recurrent = any(int(p.sources.max(initial=-1)) >= n_rows for p in steps)
+        return cls(genome.n_inputs, genome.n_outputs, n_rows, steps, output_rows, recurrent)
 
-    def activate(self, inputs: NDArray[np.floating] | FloatArray) -> FloatArray:
+    def episode_policy(
+        self, n_robots: int
+    ) -> Callable[[FloatArray, NDArray[np.int64]], FloatArray]:
+        """``policy(inputs, robots)`` for ``n_robots`` robots of one episode batch (the
+        simulator's policy signature): robot ``robots[r]`` decides on ``inputs[r]``, with its
+        own memory (blank at the first call) when the network is recurrent."""
+        memory = self.new_memory(n_robots)
+
+        def policy(inputs: FloatArray, robots: NDArray[np.int64]) -> FloatArray:
+            if not self.recurrent:
+                return self.activate(inputs)
+            mine = memory[robots]
+            out = self.activate(inputs, mine)
+            memory[robots] = mine
+            return out
+
+        return policy
+
+    def activate(
+        self, inputs: NDArray[np.floating] | FloatArray, memory: FloatArray | None = None
+    ) -> FloatArray:
         """Outputs ``(batch, n_outputs)`` for inputs ``(batch, n_inputs)``; 1-D in, 1-D out.
 
         The bias value 1.0 is appended internally; the whole batch is evaluated at once, node
         by node, each weighted sum in the fixed order of the module docstring (so every row's
-        outputs are those it gets alone, bit for bit).
+        outputs are those it gets alone, bit for bit). A recurrent network needs ``memory``
+        (:meth:`new_memory`, one row per input row), which it reads and then overwrites with
+        this decision's values; a feed-forward one ignores it.
+
+        Raises ValueError for inputs or a memory of the wrong shape, or a recurrent network
+        without a memory.
         """
         x = np.asarray(inputs, dtype=np.float64)
         single = x.ndim == 1
         batch = x[np.newaxis, :] if single else x
         if batch.ndim != 2 or batch.shape[1] != self.n_inputs:
             raise ValueError(f"inputs must have shape (batch, {self.n_inputs}), got {x.shape}")
-        # rows are nodes so each gather of source rows reads contiguous memory
-        values = np.zeros((self._n_rows, batch.shape[0]), dtype=np.float64)
+        n = self._n_rows
+        # rows are nodes so each gather of source rows reads contiguous memory; a recurrent
+        # network's rows n.. hold the previous decision's values (source row n + i: y_i(t-1))
+        values = np.zeros((2 * n if self.recurrent else n, batch.shape[0]), dtype=np.float64)
+        if self.recurrent:
+            if memory is None or memory.shape != (batch.shape[0], n):
+                got = None if memory is None else memory.shape
+                raise ValueError(f"a recurrent network needs a memory of shape "
+                                 f"({batch.shape[0]}, {n}), got {got}")  # fmt: skip
+            values[n:] = memory.T
         values[: self.n_inputs] = batch.T
         values[self.n_inputs] = 1.0
         for step in self._steps:
             values[step.row] = step.activation(weighted_sum(step.weights, values[step.sources]))
+        if memory is not None and self.recurrent:
+            memory[:] = values[:n].T
         out = values[self._output_rows].T.copy()
         return out[0] if single else out
 
 
 class PlannedNode(NamedTuple):
     """A computed node as plain lists: its row (index in ``genome.nodes``), the rows and
-    weights of its enabled incoming connections in genome order, its activation code."""
+    weights of its enabled incoming connections in genome order, its activation code. The
+    source of a recurrent connection is ``len(genome.nodes) + row`` (the previous value)."""
 
     row: int
     sources: list[int]
@@ -154,11 +209,12 @@ class PlannedNode(NamedTuple):
 
 
 def plan_nodes(genome: Genome) -> tuple[list[PlannedNode], list[int]]:
-    """The computed nodes that reach an output, in topological order (ties by id), and the
+    """The computed nodes that reach an output (now or, through a recurrent connection, at a
+    later decision), in topological order of the forward connections (ties by id), and the
     output rows; rows index ``genome.nodes`` (inputs ``0..n_inputs-1``, then the bias).
 
     Raises InvalidGenomeError for an unknown activation, a dangling reference or a cycle among
-    the enabled connections.
+    the enabled forward connections.
     """
     row_of = {n.id: k for k, n in enumerate(genome.nodes)}
     incoming: dict[int, list[ConnectionGene]] = {}
@@ -169,13 +225,19 @@ def plan_nodes(genome: Genome) -> tuple[list[PlannedNode], list[int]]:
         if c.in_node not in row_of or c.out_node not in row_of:
             raise InvalidGenomeError(f"connection {c.innovation} refers to a missing node")
         incoming.setdefault(c.out_node, []).append(c)
-        edges.append((c.in_node, c.out_node))
+        if not c.recurrent:
+            edges.append((c.in_node, c.out_node))
     order = topological_order(row_of, edges)
-    # nodes from which an output is reachable: one sweep against the topological order
+    # nodes from which an output is reachable: sweeps against the topological order, again
+    # while a recurrent connection reaches back to a node not yet needed
     needed = set(genome.output_ids)
-    for node_id in reversed(order):
-        if node_id in needed:
-            needed.update(c.in_node for c in incoming.get(node_id, ()))
+    size = -1
+    while size != len(needed):
+        size = len(needed)
+        for node_id in reversed(order):
+            if node_id in needed:
+                needed.update(c.in_node for c in incoming.get(node_id, ()))
+    n_rows = len(genome.nodes)
     first_computed = genome.n_inputs + 1  # inputs and bias are given, not computed
     planned = []
     for node_id in order:
@@ -188,7 +250,7 @@ def plan_nodes(genome: Genome) -> tuple[list[PlannedNode], list[int]]:
         planned.append(
             PlannedNode(
                 row_of[node_id],
-                [row_of[c.in_node] for c in links],
+                [row_of[c.in_node] + (n_rows if c.recurrent else 0) for c in links],
                 [c.weight for c in links],
                 ACTIVATION_NAMES.index(activation),
             )

@@ -232,10 +232,12 @@ def node_labels(
 
 def node_layers(genome: Genome) -> dict[int, int]:
     """Column of each node: inputs and bias 0, hidden nodes 1 + the longest path to them
-    from an input (over all genes), outputs one column right of the deepest hidden node."""
+    from an input (over all forward genes), outputs one column right of the deepest hidden
+    node."""
     preds: dict[int, list[int]] = {}
     for c in genome.connections:
-        preds.setdefault(c.out_node, []).append(c.in_node)
+        if not c.recurrent:  # a delayed edge may point backwards; it sets no column
+            preds.setdefault(c.out_node, []).append(c.in_node)
     kinds = {n.id: n.kind for n in genome.nodes}
     layer: dict[int, int] = {}
 
@@ -290,7 +292,8 @@ def topology(
 
     Inputs (and bias) on the left, outputs on the right, hidden nodes in columns by their
     longest path from the inputs. Edge width grows with |weight|; blue positive, red
-    negative; disabled genes dotted grey.
+    negative; disabled genes dotted grey; recurrent genes (the previous decision's value)
+    dashed, a node's loop onto itself as a dashed ring beside it.
     """
     pos = _node_positions(genome)
     labels = node_labels(genome, encoding, feedback_action)
@@ -310,12 +313,17 @@ def topology(
     wmax = max((abs(c.weight) for c in genome.connections), default=1.0) or 1.0
     for c in genome.connections:
         (x0, y0), (x1, y1) = pos[c.in_node], pos[c.out_node]
-        if c.enabled:
-            colour = "tab:blue" if c.weight >= 0 else "tab:red"
-            ax.plot([x0, x1], [y0, y1], "-", color=colour, lw=0.4 + 3.0 * abs(c.weight) / wmax,
-                    alpha=0.75, zorder=1)  # fmt: skip
+        colour = "tab:blue" if c.weight >= 0 else "tab:red"
+        style = "--" if c.recurrent else "-"
+        if not c.enabled:
+            colour, style = "0.55", ":"
+        width = 0.4 + 3.0 * abs(c.weight) / wmax if c.enabled else 1.0
+        if c.in_node == c.out_node:
+            ax.add_patch(Circle((x1 + 0.22, y1 + 0.22), 0.14, fill=False, ls=style, lw=width,
+                                edgecolor=colour, zorder=1))  # fmt: skip
         else:
-            ax.plot([x0, x1], [y0, y1], ":", color="0.55", lw=1.0, zorder=1)
+            ax.plot([x0, x1], [y0, y1], style, color=colour, lw=width,
+                    alpha=0.75 if c.enabled else 1.0, zorder=1)  # fmt: skip
     face = {"input": "#cfe2f3", "bias": "#eeeeee", "hidden": "#fff2cc", "output": "#d9ead3"}
     for node, (x, y) in pos.items():
         ax.scatter([x], [y], s=520, c=face[kinds[node]], edgecolors="0.2", zorder=2)
@@ -329,7 +337,9 @@ def topology(
         Line2D([], [], color="tab:red", lw=2, label="weight < 0"),
         Line2D([], [], color="0.55", ls=":", lw=1, label="disabled"),
     ]
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=3,
+    if genome.is_recurrent:
+        handles.append(Line2D([], [], color="0.2", ls="--", lw=1.5, label="recurrent"))
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=len(handles),
               fontsize="small", frameon=False)  # fmt: skip
     hidden = len(genome.hidden_nodes)
     enabled = len(genome.enabled_connections)
@@ -339,8 +349,8 @@ def topology(
         tax = fig.add_subplot(gs[1])
         tax.set_axis_off()
         genes = [
-            [str(c.innovation), labels[c.in_node], labels[c.out_node], f"{c.weight:+.3f}",
-             "yes" if c.enabled else "no"]
+            [str(c.innovation), labels[c.in_node] + ("(t-1)" if c.recurrent else ""),
+             labels[c.out_node], f"{c.weight:+.3f}", "yes" if c.enabled else "no"]
             for c in genome.connections
         ]  # fmt: skip
         genes += [[""] * 5] * (blocks * per_block - n_rows)

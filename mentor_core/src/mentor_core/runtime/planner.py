@@ -22,8 +22,9 @@ stamp (ns, sim time) and asks it
 * :meth:`DecisionGate.arrived`: the robot stands within the goal radius of its goal (the
   goal is then done and dropped, as a navigation stack's goal checker does).
 
-A planner with a context (a memory of its previous outputs, ``RobotProfile.n_context``)
-decides from what it decided before: :meth:`GenomePlanner.reset` starts it blank, and the
+A planner with a context (a memory of its previous outputs, ``RobotProfile.n_context``) or
+a recurrent network (recurrent connection genes: its previous node values) decides from what
+it decided before: :meth:`GenomePlanner.reset` starts it blank, and the
 gate marks the first observation it answers for a new goal or a new episode
 (:attr:`Observation.new_goal`) so that the node resets the planner there, as each episode of
 training starts blank. An observation is answered once, so a repeated one (lockstep resends)
@@ -111,8 +112,9 @@ def planner_profile(
 class GenomePlanner:
     """One robot's decisions from an evolved genome, exactly as in training.
 
-    A planner with a context (``profile.n_context``) is stateful: each decision reads what
-    the previous one output, as in an episode of training, until :meth:`reset`.
+    A planner with a context (``profile.n_context``) or a recurrent network is stateful: each
+    decision reads what the previous one output (and its network's previous values), as in
+    an episode of training, until :meth:`reset`.
 
     Raises ConfigError when the genome's inputs/outputs do not fit the profile.
     """
@@ -125,11 +127,13 @@ class GenomePlanner:
         self.profile = profile
         self.network = FeedForwardNetwork.from_genome(genome)
         self._context = observation.initial_context(1, profile)
+        self._memory = self.network.new_memory(1)
 
     def reset(self) -> None:
         """Start blank: the next decision reads the context of a first decision (a new goal or
-        episode; :func:`mentor_core.sim.observation.initial_context`)."""
+        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory."""
         self._context = observation.initial_context(1, self.profile)
+        self._memory = self.network.new_memory(1)
 
     @classmethod
     def load(cls, genome_path: str | Path, profile_name: str) -> GenomePlanner:
@@ -156,10 +160,12 @@ class GenomePlanner:
             self.profile,
             self._context,
         )
-        outputs = self.network.activate(inputs)
+        memory = self._memory.copy()  # kept as it was if the decision fails
+        outputs = self.network.activate(inputs, memory)
         dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
         if self.profile.n_context:
             self._context = observation.next_context(outputs, self.profile)
+        self._memory = memory
         return float(dtheta[0]), float(ds[0])
 
     def command(

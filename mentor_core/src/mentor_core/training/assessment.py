@@ -99,11 +99,7 @@ def assess(
     ``numbers`` are the scenarios' numbers in their source (default 0, 1, ...), as the
     results report them."""
     check_compatible(genome, profile)
-    network = FeedForwardNetwork.from_genome(genome)
-
-    def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
-        return network.activate(inputs)
-
+    policy = FeedForwardNetwork.from_genome(genome).episode_policy(len(scenarios))
     budgets = np.full(len(scenarios), float(time_limit))
     batch = run_episodes(
         list(scenarios), profile, policy, time_budgets=budgets, input_goals=input_goals

@@ -138,9 +138,10 @@ class NavigationProblem:
         n = n_scen * len(genomes)
         rule = TurnCommitment(self.profile, n) if self.turn_commitment else None
         goal_frame = self.turn_frame == "goal"
+        memory = network.new_memory(n)  # recurrent genomes' previous values, per robot
 
         def policy(inputs: NDArray[np.float64], robots: NDArray[np.int64]) -> NDArray[np.float64]:
-            out = network.activate(inputs, robots // n_scen)
+            out = network.activate(inputs, robots // n_scen, memory=memory, slots=robots)
             if goal_frame:
                 out = goal_frame_turns(out, inputs, self.profile)
             return out if rule is None else rule(out, inputs, robots)

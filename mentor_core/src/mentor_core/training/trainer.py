@@ -57,6 +57,18 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
 }
+# the same for keys of the evolution's mutation settings
+_MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
+
+
+def _saved_config(state: dict[str, Any]) -> dict[str, Any]:
+    """A checkpoint's config with the keys added since it was written (their old meaning)."""
+    saved = {**_CONFIG_KEYS_ADDED, **(state.get("config") or {})}
+    evolution = saved.get("evolution")
+    if isinstance(evolution, dict) and isinstance(evolution.get("mutation"), dict):
+        mutation = {**_MUTATION_KEYS_ADDED, **evolution["mutation"]}
+        saved["evolution"] = {**evolution, "mutation": mutation}
+    return saved
 
 
 @dataclass(frozen=True)
@@ -165,8 +177,7 @@ class _Run:
             raise FileFormatError(path, f"not a {CHECKPOINT_FORMAT} file")
         if not is_version(state.get("version"), CHECKPOINT_VERSION):
             raise FileFormatError(path, f"unsupported version {state.get('version')!r}")
-        # keys added since a checkpoint was written, whose absence meant these values
-        saved = {**_CONFIG_KEYS_ADDED, **(state.get("config") or {})}
+        saved = _saved_config(state)
         if saved != self.config.to_dict() or state.get("seed") != self.seed:
             raise FileFormatError(path, "checkpoint was written by a different config or seed")
         sensors = state.get("sensors")  # absent in checkpoints written before the record
