@@ -227,3 +227,22 @@ def test_seeds_give_different_populations() -> None:
     b = Evolution(cfg, 2, 1, seed=1).ask()
     assert a != b
     assert Evolution(cfg, 2, 1, seed=0).ask() == a
+
+
+def test_a_generation_ranking_column_0_alone_takes_nan_in_the_others() -> None:
+    evo = Evolution(EvolutionConfig(population_size=10), 3, 2, seed=0, objectives=2)
+    n = len(evo.ask())
+    values = np.column_stack([np.arange(n, dtype=float), np.full(n, np.nan)])
+    with pytest.raises(ValueError, match="finite"):
+        evo.tell(values, mode="multi")
+    bad = values.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(ValueError, match="finite"):
+        evo.tell(bad, mode="single")
+    values[-1, 1] = 7.0  # the best's G
+    stats = evo.tell(values, mode="single")
+    assert np.isnan(stats.mean_objectives[1])
+    state = json.loads(json.dumps(evo.to_state(), allow_nan=False))
+    again = Evolution.from_state(state)
+    np.testing.assert_array_equal(again.evaluated_objectives, values)
+    assert again.best()[1].tolist() == [n - 1.0, 7.0]

@@ -247,3 +247,55 @@ def test_train_in_a_directory_the_caller_opened(dual_run: Path, tmp_path: Path) 
     assert without_seconds(history_rows(tmp_path / "run")) == without_seconds(
         history_rows(dual_run)
     )
+
+
+class _EveryGain(InProcessEvaluator):
+    """Computes every G, whatever the trainer asks (the trainer before G was skipped)."""
+
+    def evaluate(self, genomes, gains="all"):  # type: ignore[no-untyped-def]
+        return self.problem.evaluate(genomes, "all")
+
+
+def test_g_is_computed_where_it_is_ranked_or_written_and_nothing_else_changes(
+    dual_run: Path, tmp_path: Path
+) -> None:
+    rows = history_rows(dual_run)
+    last = len(rows) - 1
+    for k, row in enumerate(rows):
+        computed = row["mode"] == "multi" or k == last
+        assert (row["best_G"] != "" and row["mean_G"] != "") == computed, row
+    # with every G computed, the run selects and writes the same: only the history gains G
+    config = tiny()
+    train(config, tmp_path, seed=3, evaluator=_EveryGain(make_problem(config)))
+    for name in ("best_genome.json", "population.json", "pareto.json"):
+        assert (tmp_path / name).read_bytes() == (dual_run / name).read_bytes()
+    full = history_rows(tmp_path)
+    assert all(r["best_G"] != "" for r in full)
+    for a, b in zip(without_seconds(full), without_seconds(rows), strict=True):
+        assert {k: v for k, v in a.items() if k not in ("best_G", "mean_G")} == {
+            k: v for k, v in b.items() if k not in ("best_G", "mean_G")
+        }
+    # the best genome's G is the one every-G evaluation gives it
+    genome, metadata = load_genome_and_metadata(dual_run / "best_genome.json")
+    g = make_problem(config).evaluate([genome]).objectives[0, 1]
+    assert metadata["objectives"]["experience_gain"] == g
+
+
+def test_only_the_best_gets_its_g_alike_in_process_and_in_a_pool() -> None:
+    config = tiny()
+    problem = make_problem(config)
+    from mentor_core.evolution.loop import Evolution
+
+    genomes = Evolution(config.evolution, problem.n_inputs, 2, seed=1, objectives=2).ask()
+    every = problem.evaluate(genomes)
+    serial = InProcessEvaluator(problem).evaluate(genomes, "best")
+    with PoolEvaluator(problem, workers=2) as pool:
+        parallel = pool.evaluate(genomes, "best")
+    best = int(np.argmax(every.objectives[:, 0]))
+    expected = np.full(len(genomes), np.nan)
+    expected[best] = every.objectives[best, 1]
+    for got in (serial, parallel):
+        np.testing.assert_array_equal(got.objectives[:, 0], every.objectives[:, 0])
+        np.testing.assert_array_equal(got.objectives[:, 1], expected)
+    with pytest.raises(ValueError, match="gains"):
+        problem.evaluate(genomes, "some")  # type: ignore[arg-type]

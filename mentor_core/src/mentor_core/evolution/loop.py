@@ -35,7 +35,12 @@ from mentor_core.evolution.genome_codec import genome_from_dict, genome_to_dict
 from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.evolution.mutation import mutate
 from mentor_core.evolution.ranking import scalar_fitness
-from mentor_core.evolution.reporting import GenerationStats, Reporter, ReporterSet
+from mentor_core.evolution.reporting import (
+    GenerationStats,
+    Reporter,
+    ReporterSet,
+    json_floats,
+)
 from mentor_core.evolution.reproduction import reproduce
 from mentor_core.evolution.species import adjust_threshold, speciate
 
@@ -162,7 +167,8 @@ class Evolution:
     def tell(self, objectives: np.ndarray, mode: Mode = "multi") -> GenerationStats:
         """Rank, speciate and breed from the objectives of the population :meth:`ask` gave.
 
-        Steps: check the (N, m) objectives (finite, higher is better); speciate against the
+        Steps: check the (N, m) objectives (finite, higher is better; in ``"single"`` mode
+        the columns after the first may be NaN, not computed); speciate against the
         previous representatives and adjust the threshold toward the target species count;
         scalar fitness by NSGA-II over all columns (``"multi"``) or column 0 (``"single"``);
         update the best genome; breed the next population (``reproduction.reproduce``);
@@ -285,13 +291,13 @@ class Evolution:
         if self._last is not None:
             last = {
                 "genomes": [genome_to_dict(g) for g in self._last.genomes],
-                "objectives": self._last.objectives.tolist(),
+                "objectives": _plain(self._last.objectives),
                 "labels": self._last.labels.tolist(),
                 "fitness": self._last.fitness.tolist(),
             }
         best = None
         if self._best is not None:
-            best = {"genome": genome_to_dict(self._best[0]), "objectives": self._best[1].tolist()}
+            best = {"genome": genome_to_dict(self._best[0]), "objectives": _plain(self._best[1])}
         return {
             "format": STATE_FORMAT,
             "version": STATE_VERSION,
@@ -400,9 +406,19 @@ class Evolution:
                 f"objectives: 'multi' mode expects {self.n_objectives} columns, "
                 f"got {values.shape[1]}"
             )
-        if not np.all(np.isfinite(values)):
-            raise ValueError("objectives must be finite")
+        # a "single" generation ranks column 0 only; the others may be NaN (not computed)
+        ranked = values if mode == "multi" else values[:, :1]
+        if not np.all(np.isfinite(ranked)) or np.isinf(values).any():
+            raise ValueError("objectives must be finite (NaN only in unranked columns)")
         return values
+
+
+def _plain(values: np.ndarray) -> list[Any]:
+    """``values`` (1-D or 2-D) as JSON lists, NaN (an objective not computed) as null; read
+    back as NaN (numpy turns None into NaN in a float array)."""
+    if values.ndim == 1:
+        return json_floats(values.tolist())
+    return [json_floats(row) for row in values.tolist()]
 
 
 @dataclass(frozen=True)

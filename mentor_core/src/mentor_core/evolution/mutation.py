@@ -89,7 +89,7 @@ def mutate(
     connections, nodes = _add_nodes(genome, connections, cfg, tracker, rng)
     connections = _add_edges(connections, nodes, cfg, tracker, rng)
     if cfg.recurrent_rate > 0:  # no draw otherwise: feed-forward runs keep their random stream
-        connections = _add_recurrent_edges(connections, nodes, cfg, tracker, rng)
+        connections = _add_edges(connections, nodes, cfg, tracker, rng, recurrent=True)
     return genome.with_connections(connections, nodes)
 
 
@@ -167,48 +167,36 @@ def _add_edges(
     cfg: MutationConfig,
     tracker: InnovationTracker,
     rng: np.random.Generator,
+    recurrent: bool = False,
 ) -> list[ConnectionGene]:
-    """Give each non-input node, with probability ``edge_rate``, one new acyclic in-edge."""
-    succ = adjacency(connections)
-    ids = sorted(n.id for n in nodes)
-    targets = [n.id for n in sorted(nodes, key=lambda n: n.id) if n.kind in ("output", "hidden")]
-    hits = [b for b, u in zip(targets, rng.random(len(targets)), strict=True) if u < cfg.edge_rate]
+    """Give each non-input node, with probability ``edge_rate``, one new acyclic in-edge;
+    ``recurrent``: with probability ``recurrent_rate``, one new recurrent in-edge from any
+    node but the bias (itself included)."""
+    ordered = sorted(nodes, key=lambda n: n.id)
+    ids = [n.id for n in ordered if not (recurrent and n.kind == "bias")]
+    targets = [n.id for n in ordered if n.kind in ("output", "hidden")]
+    rate = cfg.recurrent_rate if recurrent else cfg.edge_rate
+    hits = [b for b, u in zip(targets, rng.random(len(targets)), strict=True) if u < rate]
+    succ = adjacency(connections)  # forward genes
+    delayed = {(c.in_node, c.out_node) for c in connections if c.recurrent}
     out = list(connections)
     for b in hits:
-        below = descendants(ids, succ)[b]  # a -> b closes a cycle iff a is reachable from b
-        sources = [a for a in ids if a != b and b not in succ.get(a, ()) and a not in below]
+        if recurrent:
+            sources = [a for a in ids if (a, b) not in delayed]
+        else:
+            below = descendants(ids, succ)[b]  # a -> b closes a cycle iff a is reachable from b
+            sources = [a for a in ids if a != b and b not in succ.get(a, ()) and a not in below]
         if not sources:
             continue
         a = sources[int(rng.integers(len(sources)))]
         w = float(np.clip(rng.normal(0.0, cfg.weight_init_sigma), -cfg.weight_max, cfg.weight_max))
-        succ.setdefault(a, set()).add(b)
-        out.append(ConnectionGene(tracker.connection(a, b), a, b, w))
-    return out
-
-
-def _add_recurrent_edges(
-    connections: list[ConnectionGene],
-    nodes: list[NodeGene],
-    cfg: MutationConfig,
-    tracker: InnovationTracker,
-    rng: np.random.Generator,
-) -> list[ConnectionGene]:
-    """Give each non-input node, with probability ``recurrent_rate``, one new recurrent
-    in-edge from any node but the bias (itself included)."""
-    ordered = sorted(nodes, key=lambda n: n.id)
-    ids = [n.id for n in ordered if n.kind != "bias"]
-    targets = [n.id for n in ordered if n.kind in ("output", "hidden")]
-    draws = rng.random(len(targets))
-    have = {(c.in_node, c.out_node) for c in connections if c.recurrent}
-    out = list(connections)
-    for b in (b for b, u in zip(targets, draws, strict=True) if u < cfg.recurrent_rate):
-        sources = [a for a in ids if (a, b) not in have]
-        if not sources:
-            continue
-        a = sources[int(rng.integers(len(sources)))]
-        w = float(np.clip(rng.normal(0.0, cfg.weight_init_sigma), -cfg.weight_max, cfg.weight_max))
-        have.add((a, b))
-        out.append(ConnectionGene(tracker.connection(a, b, True), a, b, w, recurrent=True))
+        if recurrent:
+            delayed.add((a, b))
+        else:
+            succ.setdefault(a, set()).add(b)
+        out.append(
+            ConnectionGene(tracker.connection(a, b, recurrent), a, b, w, recurrent=recurrent)
+        )
     return out
 
 

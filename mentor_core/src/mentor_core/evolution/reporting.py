@@ -19,6 +19,7 @@ Events, in the order one generation emits them:
 from __future__ import annotations
 
 import json
+import math
 import sys
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
@@ -27,6 +28,15 @@ from typing import Any, TextIO
 import numpy as np
 
 from mentor_core.evolution.genome import Genome
+
+
+def json_floats(values: Iterable[float]) -> list[float | None]:
+    """``values`` as a JSON list, NaN (an objective not computed) as null."""
+    return [None if math.isnan(v) else float(v) for v in values]
+
+
+def _float(value: Any) -> float:
+    return math.nan if value is None else float(value)
 
 
 @dataclass(frozen=True)
@@ -62,8 +72,8 @@ class GenerationStats:
             "generation": self.generation,
             "evaluations": self.evaluations,
             "mode": self.mode,
-            "best_objectives": list(self.best_objectives),
-            "mean_objectives": list(self.mean_objectives),
+            "best_objectives": json_floats(self.best_objectives),
+            "mean_objectives": json_floats(self.mean_objectives),
             "species_count": self.species_count,
             "niche_sizes": {str(k): v for k, v in sorted(self.niche_sizes.items())},
             "niche_targets": {str(k): v for k, v in sorted(self.niche_targets.items())},
@@ -82,8 +92,8 @@ class GenerationStats:
             generation=int(d["generation"]),
             evaluations=int(d["evaluations"]),
             mode=str(d["mode"]),
-            best_objectives=tuple(float(v) for v in d["best_objectives"]),
-            mean_objectives=tuple(float(v) for v in d["mean_objectives"]),
+            best_objectives=tuple(_float(v) for v in d["best_objectives"]),
+            mean_objectives=tuple(_float(v) for v in d["mean_objectives"]),
             species_count=int(d["species_count"]),
             niche_sizes={int(k): int(v) for k, v in d["niche_sizes"].items()},
             niche_targets={int(k): int(v) for k, v in d["niche_targets"].items()},

@@ -31,7 +31,7 @@ import numpy as np
 from mentor_core.errors import ConfigError, MentorError, one_line
 from mentor_core.evolution.genome import Genome
 from mentor_core.training.child_processes import Reaper, die_with_parent
-from mentor_core.training.problem import Evaluation, NavigationProblem
+from mentor_core.training.problem import Evaluation, GainScope, NavigationProblem
 
 
 def _chunks(n: int, parts: int) -> list[tuple[int, int]]:
@@ -41,9 +41,17 @@ def _chunks(n: int, parts: int) -> list[tuple[int, int]]:
     return [(int(lo), int(hi)) for lo, hi in itertools.pairwise(bounds) if hi > lo]
 
 
-def _concat(parts: Sequence[Evaluation]) -> Evaluation:
+def _concat(parts: Sequence[Evaluation], gains: GainScope) -> Evaluation:
+    """The chunks' evaluations in order; with ``gains="best"`` only the G of the whole call's
+    best is kept (each chunk computed its own best's), as one call in process gives."""
+    objectives = np.concatenate([p.objectives for p in parts], axis=0)
+    if gains == "best" and objectives.shape[0]:
+        best = int(np.argmax(objectives[:, 0]))
+        kept = objectives[best, 1]
+        objectives[:, 1] = np.nan
+        objectives[best, 1] = kept
     return Evaluation(
-        objectives=np.concatenate([p.objectives for p in parts], axis=0),
+        objectives=objectives,
         success_rate=np.concatenate([p.success_rate for p in parts]),
         collision_rate=np.concatenate([p.collision_rate for p in parts]),
     )
@@ -55,9 +63,10 @@ class Evaluator:
     def __init__(self, problem: NavigationProblem) -> None:
         self.problem = problem
 
-    def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
-        """Objectives and outcome rates for ``genomes``, row i for genome i."""
-        return self.problem.evaluate(genomes)
+    def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
+        """Objectives and outcome rates for ``genomes``, row i for genome i; ``gains`` as
+        :meth:`NavigationProblem.evaluate`: every backend gives the same numbers."""
+        return self.problem.evaluate(genomes, gains)
 
     def describe(self) -> str:
         """Where the genomes are evaluated, in a few words (for a command's log)."""
@@ -109,14 +118,16 @@ class PoolEvaluator(Evaluator):
         """``"N worker processes"``."""
         return f"{self.workers} worker processes"
 
-    def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
+    def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
         """Evaluate contiguous chunks in parallel and concatenate them in order."""
         chunks = _chunks(len(genomes), self.workers)
         if len(chunks) <= 1:
-            return self.problem.evaluate(genomes)
+            return self.problem.evaluate(genomes, gains)
         # the problem (a world and its scenarios) is small, so it travels with each chunk
-        futures = [self._pool.submit(self.problem.evaluate, genomes[lo:hi]) for lo, hi in chunks]
-        return _concat([f.result() for f in futures])
+        futures = [
+            self._pool.submit(self.problem.evaluate, genomes[lo:hi], gains) for lo, hi in chunks
+        ]
+        return _concat([f.result() for f in futures], gains)
 
     def close(self) -> None:
         """Shut the pool down (after the chunks in progress)."""
@@ -317,13 +328,16 @@ class RayEvaluator(Evaluator):
             f"{_count(self._cpus, 'CPU')}), {_count(self.workers, 'task')} a generation"
         )
 
-    def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
+    def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
         """Evaluate contiguous chunks as Ray tasks and concatenate them in order."""
         chunks = _chunks(len(genomes), self.workers)
         if not chunks:
-            return self.problem.evaluate(genomes)
-        refs = [self._remote.remote(self._problem_ref, list(genomes[lo:hi])) for lo, hi in chunks]
-        return _concat(self._ray.get(refs))
+            return self.problem.evaluate(genomes, gains)
+        refs = [
+            self._remote.remote(self._problem_ref, list(genomes[lo:hi]), gains)
+            for lo, hi in chunks
+        ]
+        return _concat(self._ray.get(refs), gains)
 
     def close(self) -> None:
         """``ray.shutdown()`` if this evaluator called ``ray.init``; idempotent."""
@@ -345,8 +359,10 @@ def _application_sigterm_handler() -> Callable[[int, FrameType | None], Any] | N
     return handler if callable(handler) else None
 
 
-def _ray_evaluate(problem: NavigationProblem, genomes: Sequence[Genome]) -> Evaluation:
-    return problem.evaluate(genomes)
+def _ray_evaluate(
+    problem: NavigationProblem, genomes: Sequence[Genome], gains: GainScope
+) -> Evaluation:
+    return problem.evaluate(genomes, gains)
 
 
 def make_evaluator(

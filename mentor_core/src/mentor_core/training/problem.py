@@ -12,6 +12,9 @@ genome gets
 
 Evaluation is deterministic and each genome's numbers do not depend on which other genomes
 share the call, so any split of the population over workers gives bit-identical results.
+``evaluate(genomes, gains="best")`` computes G only for the genome of the highest F in the
+call (the first of equals), NaN for the others: for generations that rank F alone (the second
+stage of the dual framework, the single framework), where G would only fill the history.
 """
 
 from __future__ import annotations
@@ -38,6 +41,8 @@ from mentor_core.sim.world import Scenario
 OBJECTIVE_NAMES = ("performance", "experience_gain")
 GoalDistanceKind = Literal["euclidean", "geodesic"]
 TurnFrame = Literal["body", "goal"]
+#: which genomes of an ``evaluate`` call get their G: all, or the one of the highest F
+GainScope = Literal["all", "best"]
 # the geodesic S_f's footprint: a little inside the body's inscribed disc, so that a robot
 # stopped against an obstacle still stands in the free space
 _INSCRIBED_SHARE = 0.9
@@ -48,7 +53,8 @@ class Evaluation:
     """What one call of :meth:`NavigationProblem.evaluate` measured, per genome.
 
     Attributes:
-        objectives: (n_genomes, 2) float64: F (performance) and G (experience gain).
+        objectives: (n_genomes, 2) float64: F (performance) and G (experience gain); G is
+            NaN where it was not computed (``gains="best"``).
         success_rate: (n_genomes,) share of scenarios whose goal was reached.
         collision_rate: (n_genomes,) share of scenarios that ended in a collision.
     """
@@ -151,8 +157,13 @@ class NavigationProblem:
             time_budgets=self.time_budget,
         )  # fmt: skip
 
-    def evaluate(self, genomes: Sequence[Genome]) -> Evaluation:
-        """Objectives (F, G) and outcome rates of each genome; G is 0 without experience."""
+    def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
+        """Objectives (F, G) and outcome rates of each genome; G is 0 without experience.
+
+        ``gains="best"``: G only for the genome of the highest F (the first of equals), NaN
+        for the others (module docstring)."""
+        if gains not in ("all", "best"):
+            raise ValueError(f"gains must be 'all' or 'best', got {gains!r}")
         n_gen, n_scen = len(genomes), len(self.scenarios)
         if n_gen == 0:
             empty = np.zeros(0, dtype=np.float64)
@@ -167,11 +178,14 @@ class NavigationProblem:
         objectives = np.zeros((n_gen, 2), dtype=np.float64)
         objectives[:, 0] = per_scenario.sum(axis=1)
         if self.with_experience:
+            chosen = range(n_gen) if gains == "all" else [int(np.argmax(objectives[:, 0]))]
             points = [
                 np.concatenate(batch.experience[g * n_scen : (g + 1) * n_scen], axis=0)
-                for g in range(n_gen)
+                for g in chosen
             ]
-            objectives[:, 1] = experience_gains(points)
+            if gains == "best":
+                objectives[:, 1] = np.nan
+            objectives[list(chosen), 1] = experience_gains(points)
         return Evaluation(
             objectives=objectives,
             success_rate=batch.reached.reshape(n_gen, n_scen).mean(axis=1),

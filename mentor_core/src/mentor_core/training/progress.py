@@ -9,6 +9,7 @@ the trainer calls it after each generation's checkpoint (``train(..., callbacks=
 
 from __future__ import annotations
 
+import math
 import sys
 from types import TracebackType
 from typing import TextIO
@@ -30,11 +31,16 @@ from mentor_core.training.run_files import GenerationRecord
 _PACE_WINDOW_S = 3600.0
 
 
+def _gain(rec: GenerationRecord, spec: str) -> str:
+    """The best G formatted, or "-" in a generation that does not compute every G."""
+    return "-" if math.isnan(rec.best_G) else format(rec.best_G, spec)
+
+
 def generation_line(rec: GenerationRecord, total: int) -> str:
     """One generation's numbers on one line (what the log gets)."""
     return (
         f"gen {rec.generation + 1:>3}/{total} {rec.mode:<6} evals {rec.evaluations:>6} | "
-        f"F best {rec.best_F:8.3f} mean {rec.mean_F:8.3f} | G best {rec.best_G:9.3f} | "
+        f"F best {rec.best_F:8.3f} mean {rec.mean_F:8.3f} | G best {_gain(rec, '9.3f'):>9} | "
         f"species {rec.species:>2} largest {rec.largest_niche_share:4.0%} | "
         f"{rec.seconds:5.1f} s"
     )
@@ -93,7 +99,7 @@ class GenerationProgress:
             print(generation_line(rec, self.total), file=self.stream, flush=True)
             return
         # best/mean F, best G, the ranking: short enough for an 80-column terminal
-        numbers = f"F {rec.best_F:.3f}/{rec.mean_F:.3f} G {rec.best_G:.1f} {rec.mode}"
+        numbers = f"F {rec.best_F:.3f}/{rec.mean_F:.3f} G {_gain(rec, '.1f')} {rec.mode}"
         if self._progress.tasks[0].completed < rec.generation:  # a resumed run: start there
             self._progress.reset(self._task, total=self.total, completed=rec.generation)
         self._progress.update(self._task, completed=rec.generation + 1, numbers=numbers)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -76,7 +77,9 @@ class RunPaths:
 
 @dataclass(frozen=True)
 class GenerationRecord:
-    """One row of the per-generation history (what reporters receive)."""
+    """One row of the per-generation history (what reporters receive). ``best_G`` and
+    ``mean_G`` are NaN (empty in the CSV) in a generation that ranks F alone: only its best
+    genome's G is computed there (``NavigationProblem.evaluate``, ``gains="best"``)."""
 
     generation: int
     stage: int
@@ -95,10 +98,10 @@ class GenerationRecord:
     seconds: float
 
     def row(self) -> dict[str, Any]:
-        """The CSV row (niche sizes as compact JSON)."""
+        """The CSV row (niche sizes as compact JSON; a value not computed, NaN, empty)."""
         d = asdict(self)
         d["niche_sizes"] = json.dumps({str(k): v for k, v in sorted(self.niche_sizes.items())})
-        return d
+        return {k: "" if isinstance(v, float) and math.isnan(v) else v for k, v in d.items()}
 
 
 def history_csv(records: Sequence[GenerationRecord]) -> str:
@@ -131,7 +134,7 @@ def record_from_row(row: dict[str, Any]) -> GenerationRecord:
         evaluations=int(row["evaluations"]),
         species=int(row["species"]),
         niche_sizes=sizes,
-        **{k: float(row[k]) for k in _FLOAT_FIELDS},
+        **{k: math.nan if row[k] == "" else float(row[k]) for k in _FLOAT_FIELDS},
     )
 
 

@@ -252,7 +252,11 @@ def _train(
             t0 = time.perf_counter()
             stage, mode, stage_end = run.stage_of(run.generation)
             genomes = run.evolution.ask()
-            evaluation = evaluator.evaluate(genomes)
+            # G where it is ranked or written; a generation ranking F alone needs only its
+            # best's (the run's best genome keeps its objectives), the rest would fill the
+            # history only and cost more than the simulation
+            final = run.generation == total - 1
+            evaluation = evaluator.evaluate(genomes, "all" if mode == "multi" or final else "best")
             stats = run.evolution.tell(evaluation.objectives, mode=mode)
             if stage_end and mode == "multi":
                 # stage 1 -> 2: keep the Pareto set, then seed stage 2 from the best by F
