@@ -1,0 +1,170 @@
+"""A map a robot builds from its own range readings, and a global plan on it (the SLAM +
+Nav2 pattern: a costmap from the sensors, unknown space planned as free).
+
+:class:`ScanMap` starts unknown and, per decision, counts the cells each sensor ray passes
+up to its reading as seen free and the cell of a reading short of the sensor range as hit
+(a beam's reading on every ray of its cone; details on the class). :class:`ScanGuide` is
+one robot's :class:`~mentor_core.navigation.guide.PathGuide` planning on its own
+:class:`ScanMap` with unknown cells free: it plans again when a newly seen obstacle cell
+lies within the planner's disc (plus a cell) of the path it follows, or when it has no
+path. Nothing of the world is known but what the robot's sensors read from where it
+has been; the memory of where obstacles are is the map.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
+from mentor_core.navigation.guide import GuideConfig, PathGuide
+from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.sensors import beam_frames, sensor_readings
+from mentor_core.sim.world import Scenario
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+class ScanMap:
+    """The occupancy grid of what one robot has read (module docstring): ``size`` m square
+    from ``(0, 0)``, cells of ``resolution`` m.
+
+    Each cell counts the rays that ended in it (hits) and the rays that passed through it
+    (misses); it is occupied while its hits are at least its misses, free when only rays
+    passed, unknown when none came. A beam sensor reads the nearest hit of its cone: every
+    ray of the cone is free up to the reading, and the hit is either put on every ray (the
+    sonar model of Moravec and Elfes: the obstacle lies somewhere on that arc; rays that
+    later pass a cell of the arc clear it) or, as :func:`scan_guided_goals` does unless
+    asked, left out (an arc as wide as the cone closes gaps the robot could pass: measured
+    in ``benchmarks/RESULTS.md``, "A map of what the robot read").
+    """
+
+    def __init__(self, size: float, resolution: float) -> None:
+        if not (math.isfinite(size) and size > 0 and math.isfinite(resolution) and resolution > 0):
+            raise ValueError(f"size and resolution must be positive, got {size}, {resolution}")
+        self.resolution = float(resolution)
+        n = max(1, math.ceil(size / resolution))
+        self.hits = np.zeros((n, n), dtype=np.int32)
+        self.misses = np.zeros((n, n), dtype=np.int32)
+
+    @property
+    def data(self) -> NDArray[np.int8]:
+        """``(n, n)`` cell values: -1 unknown, 0 free, 100 occupied (module docstring)."""
+        out = np.full(self.hits.shape, UNKNOWN, dtype=np.int8)
+        out[self.misses > 0] = FREE
+        out[(self.hits > 0) & (self.hits >= self.misses)] = OCCUPIED
+        return out
+
+    def update(
+        self, rays: ArrayLike, readings: ArrayLike, max_range: float,
+        located: ArrayLike | None = None,
+    ) -> FloatArray:  # fmt: skip
+        """Add rays from ``rays`` ``(k, 3)`` (x, y, heading) that read ``readings`` ``(k,)``
+        (m, +inf out of range); ``located`` ``(k,)`` (default all): whether a ray's reading
+        marks its end cell as hit, or only the free cells before it (a beam's reading, whose
+        hit may lie on any of its rays). Returns the centres ``(j, 2)`` of the cells that
+        became occupied."""
+        f = np.asarray(rays, dtype=np.float64).reshape(-1, 3)
+        r = np.asarray(readings, dtype=np.float64).reshape(-1)
+        before = self.data == OCCUPIED
+        marks = np.ones(len(r), dtype=bool) if located is None else np.asarray(located, bool)
+        hit = np.isfinite(r) & (r < max_range)
+        reach = np.where(hit, r, max_range)
+        step = 0.5 * self.resolution
+        t = np.arange(math.ceil(max_range / step)) * step  # (s,)
+        along = t[None, :] < reach[:, None] - step  # up to half a cell short of the hit
+        cos, sin = np.cos(f[:, 2]), np.sin(f[:, 2])
+        ys = f[:, 1, None] + sin[:, None] * t
+        rows, cols = self._cells(ys, f[:, 0, None] + cos[:, None] * t)
+        ray = np.broadcast_to(np.arange(len(f))[:, None], along.shape)
+        # a ray counts once per cell it passes
+        passed = np.unique(np.stack([ray[along], rows[along], cols[along]]), axis=1)
+        np.add.at(self.misses, (passed[1], passed[2]), 1)
+        hit &= marks
+        ends = self._cells(f[hit, 1] + sin[hit] * reach[hit], f[hit, 0] + cos[hit] * reach[hit])
+        cells = np.unique(np.stack(ends), axis=1)  # a cell hit by several rays of a cone: once
+        np.add.at(self.hits, (cells[0], cells[1]), 1)
+        rows, cols = np.nonzero((self.data == OCCUPIED) & ~before)
+        return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution
+
+    def grid(self) -> OccupancyGrid:
+        """The map as an :class:`OccupancyGrid` (origin at ``(0, 0)``)."""
+        return OccupancyGrid(self.resolution, (0.0, 0.0, 0.0), self.data)
+
+    def _cells(self, y: FloatArray, x: FloatArray) -> tuple[IntArray, IntArray]:
+        n = self.hits.shape[0]
+        rows = np.clip(np.floor(y / self.resolution).astype(np.int64), 0, n - 1)
+        cols = np.clip(np.floor(x / self.resolution).astype(np.int64), 0, n - 1)
+        return rows, cols
+
+
+class ScanGuide:
+    """One robot's plan on its own :class:`ScanMap` (module docstring)."""
+
+    def __init__(self, size: float, config: GuideConfig) -> None:
+        self.map = ScanMap(size, config.resolution)
+        self.guide = PathGuide(config)
+        self.guide.set_map(self.map.grid())
+        self.plans = 0  # maps planned on, the first included
+
+    def target(self, rays: ArrayLike, readings: ArrayLike, max_range: float,
+               xy: ArrayLike, goal: ArrayLike,
+               located: ArrayLike | None = None) -> tuple[float, float]:  # fmt: skip
+        """Add the rays' readings to the map (:meth:`ScanMap.update`), plan again if they
+        block the path, and return the goal the network should see
+        (:meth:`PathGuide.target`)."""
+        new = self.map.update(rays, readings, max_range, located)
+        path = self.guide.path
+        if new.size and (path is None or _near(new, path, self.guide.config)):
+            self.guide.set_map(self.map.grid())
+            self.plans += 1
+        return self.guide.target(xy, goal)
+
+
+def _near(cells: FloatArray, path: FloatArray, config: GuideConfig) -> bool:
+    """Whether a cell centre lies within the planner's disc plus a cell of a path vertex or
+    of points every cell along the path's segments."""
+    reach = config.inflation + config.resolution
+    seg = np.diff(path, axis=0)
+    lengths = np.hypot(seg[:, 0], seg[:, 1])
+    pieces = [path[:1]]
+    for a, d, length in zip(path[:-1], seg, lengths, strict=True):
+        k = max(1, math.ceil(length / config.resolution))
+        pieces.append(a + d * (np.arange(1, k + 1) / k)[:, None])
+    points = np.concatenate(pieces)
+    d2 = ((cells[:, None, :] - points[None, :, :]) ** 2).sum(axis=2)
+    return bool((d2 <= reach * reach).any())
+
+
+def scan_guided_goals(
+    scenarios: Sequence[Scenario], profile: RobotProfile, config: GuideConfig,
+    beam_arcs: bool = False,
+) -> tuple[Callable[[FloatArray, IntArray], FloatArray], list[ScanGuide]]:  # fmt: skip
+    """``input_goals`` for :func:`mentor_core.sim.episode.run_episodes` on ``scenarios``:
+    robot ``i`` plans on the map of what its own sensors read (the readings the simulator
+    gives it at its pose), and the guides (for their maps and plan counts). ``beam_arcs``:
+    a beam sensor's hit goes on every ray of its cone (:class:`ScanMap`), else only its free
+    space counts."""
+    guides = [ScanGuide(sc.world.size, config) for sc in scenarios]
+    beam = np.full(profile.n_sensors, profile.beam_rays > 1 and profile.beam_sensors is None)
+    if profile.beam_rays > 1 and profile.beam_sensors is not None:
+        beam[list(profile.beam_sensors)] = True
+    located = np.repeat(beam_arcs | ~beam, profile.beam_rays)  # per ray, sensor-major
+
+    def input_goals(poses: FloatArray, robots: IntArray) -> FloatArray:
+        out = np.empty((len(robots), 2), dtype=np.float64)
+        rays = beam_frames(poses, profile)  # (m, sensors, beam rays, 3)
+        for k, i in enumerate(robots.tolist()):
+            sc = scenarios[i]
+            readings = sensor_readings(poses[k : k + 1], profile, sc.world)[0]
+            per_ray = np.broadcast_to(readings[:, None], rays.shape[1:3])
+            out[k] = guides[i].target(rays[k].reshape(-1, 3), per_ray.reshape(-1),
+                                      profile.sensor_range, poses[k, :2], sc.goal,
+                                      located)  # fmt: skip
+        return out
+
+    return input_goals, guides

@@ -1,0 +1,83 @@
+"""The map a robot builds from its own readings, and the plan on it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN
+from mentor_core.navigation.guide import guide_config
+from mentor_core.navigation.scan_map import ScanGuide, ScanMap, scan_guided_goals
+from mentor_core.sim.episode import run_episodes
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.sensors import sensor_frames, sensor_readings
+from mentor_core.sim.world import Scenario, World
+
+UGV = get_profile("ugv")
+# a wall across the middle of a 12 m arena, open at its top end
+WALL = World(12.0, np.array([[5.9, 0.0, 6.1, 9.0]]))
+
+
+def test_a_ray_clears_the_cells_before_its_hit_and_marks_the_hit() -> None:
+    scan = ScanMap(12.0, 0.1)
+    new = scan.update([[2.0, 4.5, 0.0]], [3.0], max_range=4.0)  # hits x = 5.0
+    np.testing.assert_allclose(new, [[5.05, 4.55]])
+    row = scan.data[45]
+    assert (row[20:49] == FREE).all() and row[50] == OCCUPIED and row[51] == UNKNOWN
+    assert scan.update([[2.0, 4.5, 0.0]], [3.0], max_range=4.0).size == 0  # nothing new
+    assert scan.data[45, 50] == OCCUPIED
+    # out of range: free all the way, no hit
+    scan.update([[1.05, 2.0, math.pi / 2]], [math.inf], max_range=4.0)
+    assert (scan.data[20:59, 10] == FREE).all() and (scan.data[61:, 10] == UNKNOWN).all()
+    # a hit stays while no more rays pass its cell than ended there (two hits, then passes)
+    for passes in (1, 2, 3):
+        scan.update([[5.05, 1.0, math.pi / 2]], [math.inf], max_range=4.0)
+        assert scan.data[45, 50] == (OCCUPIED if passes <= 2 else FREE)
+
+
+def test_a_beam_reading_lies_on_every_ray_of_its_cone() -> None:
+    scan = ScanMap(12.0, 0.1)
+    cone = [[2.0, 4.5, a] for a in (-0.2, 0.0, 0.2)]
+    scan.update(cone, [3.0, 3.0, 3.0], max_range=4.0)
+    rows, cols = np.nonzero(scan.data == OCCUPIED)
+    ends = np.array([[2.0 + 3.0 * math.cos(a), 4.5 + 3.0 * math.sin(a)] for a in (-0.2, 0, 0.2)])
+    np.testing.assert_array_equal(sorted(zip(rows.tolist(), cols.tolist(), strict=True)),
+                                  sorted((int(y / 0.1), int(x / 0.1)) for x, y in ends))
+
+
+def test_the_plan_goes_round_a_wall_once_the_robot_has_read_it() -> None:
+    guide = ScanGuide(12.0, guide_config(UGV, resolution=0.1))
+    start, goal = np.array([3.0, 4.0, 0.0]), (9.0, 4.0)
+    frames = sensor_frames(start[None], UGV)[0]
+    aim_blind = guide.target(frames, np.full(UGV.n_sensors, np.inf), UGV.sensor_range,
+                             start[:2], goal)  # fmt: skip
+    assert abs(aim_blind[1] - 4.0) < 1e-9  # unknown is free: straight at the goal
+    near = np.array([5.4, 4.0, 0.0])  # facing the wall 0.5 m ahead
+    readings = sensor_readings(near[None], UGV, WALL)[0]
+    aim = guide.target(sensor_frames(near[None], UGV)[0], readings, UGV.sensor_range,
+                       near[:2], goal)  # fmt: skip
+    assert guide.plans == 1
+    # round the part of the wall it has seen (the rest is unknown, so planned as free)
+    path = guide.guide.path
+    assert path is not None and path[:, 1].max() > 4.5
+    assert abs(aim[1] - 4.0) > 0.3  # the network is sent along the wall, not into it
+
+
+def test_every_robot_plans_on_its_own_map() -> None:
+    open_world = World(12.0, np.zeros((0, 4)))
+    scenarios = [Scenario(WALL, (3.0, 4.0, 0.0), (9.0, 4.0)),
+                 Scenario(open_world, (3.0, 4.0, 0.0), (9.0, 4.0))]  # fmt: skip
+
+    def stand(inputs: np.ndarray, robots: np.ndarray) -> np.ndarray:
+        return np.tile([0.5, 0.0], (len(robots), 1))  # no turn, the smallest step
+
+    inner = slice(56, 62)  # x 5.6-6.2 m: the inner wall, and the arcs a cone puts before it
+    for arcs in (True, False):
+        config = guide_config(UGV, resolution=0.1)
+        goals, guides = scan_guided_goals(scenarios, UGV, config, beam_arcs=arcs)
+        run_episodes(scenarios, UGV, stand, time_budgets=3.0, input_goals=goals)
+        # only the front beams face the wall: without arcs they clear the way and mark nothing
+        assert (guides[0].map.data[:, inner] == OCCUPIED).any() == arcs
+        assert (guides[0].map.data[40, 35:55] == FREE).all()
+        assert not (guides[1].map.data[:, inner] == OCCUPIED).any()  # robot 1's world: none
