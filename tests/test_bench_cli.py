@@ -122,3 +122,19 @@ def test_seeds_of_a_planner_are_summarised_beside_the_baselines(
     assert "| family | dual (3 seeds) | vfh (baseline) | bug (baseline) | oracle (oracle) |" in md
     # mean 50 %, sample sd 50 %; SPL 0.25 +- 0.25
     assert "| **overall** | 50 ± 50 % / 0.25 ± 0.25 |" in md
+
+
+def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -> None:
+    out = tmp_path / "mapped"
+    code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
+                       "rooms", "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
+                       "--scan-map", "--out", str(out)])  # fmt: skip
+    assert code == 0
+    doc = load_bench(out / "bench.json")
+    names = [c["name"] for c in doc["contenders"]]
+    assert names == ["ref-s1", "vfh", "mapped-ref-s1", "mapped-vfh"]
+    assert [c["kind"] for c in doc["contenders"]] == ["evolved", "baseline"] * 2
+    plain, mapped = doc["contenders"][0], doc["contenders"][2]
+    # the same planner, steered elsewhere: its trajectories differ
+    assert any(a["trajectory"] != b["trajectory"]
+               for a, b in zip(plain["results"], mapped["results"], strict=True))  # fmt: skip

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from mentor_core.benchmark.contenders import scan_map_resolution
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN
 from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.scan_map import ScanGuide, ScanMap, scan_guided_goals
@@ -17,6 +18,11 @@ from mentor_core.sim.world import Scenario, World
 UGV = get_profile("ugv")
 # a wall across the middle of a 12 m arena, open at its top end
 WALL = World(12.0, np.array([[5.9, 0.0, 6.1, 9.0]]))
+
+
+def test_the_map_cell_is_half_the_footprint_radius() -> None:
+    assert scan_map_resolution(UGV) == 0.1  # the cells the experiments measured
+    assert scan_map_resolution(get_profile("swarm")) == 0.025
 
 
 def test_a_ray_clears_the_cells_before_its_hit_and_marks_the_hit() -> None:

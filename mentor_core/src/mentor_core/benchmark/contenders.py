@@ -3,7 +3,9 @@
 A :class:`Contender` is a name, a kind, the profile it acts with (sensors, action limits,
 input encoding) and a maker of its policy for a list of scenarios (a fresh one per run, so a
 planner with a memory starts blank). Every contender runs through the same engine and the
-same input and action functions (``mentor_core.sim.episode.run_episodes``).
+same input and action functions (``mentor_core.sim.episode.run_episodes``). A contender may
+also steer to goals of its own (:func:`on_scan_map`: the carrot of a plan on the map of what
+its sensors read), instead of the scenario's goal.
 """
 
 from __future__ import annotations
@@ -23,14 +25,19 @@ from mentor_core.errors import FileFormatError
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.navigation.guide import guide_config
+from mentor_core.navigation.scan_map import scan_guided_goals
 from mentor_core.runtime.planner import planner_profile
-from mentor_core.sim.episode import Policy
+from mentor_core.sim.episode import InputGoals, Policy
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
 from mentor_core.training.assessment import check_compatible
 
 Kind = Literal["evolved", "baseline", "oracle"]
 PolicyMaker = Callable[[Sequence[Scenario], RobotProfile], Policy]
+GoalsMaker = Callable[[Sequence[Scenario], RobotProfile], InputGoals]
+#: prefix of the name of a contender on its scan map (the ``-s<seed>`` suffix stays last)
+MAPPED = "mapped-"
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
@@ -44,10 +51,37 @@ class Contender:
     profile: RobotProfile
     make_policy: PolicyMaker
     source: str = ""
+    make_goals: GoalsMaker | None = None
 
     def policy(self, scenarios: Sequence[Scenario]) -> Policy:
         """A fresh policy for robot ``i`` on ``scenarios[i]``."""
         return self.make_policy(scenarios, self.profile)
+
+    def input_goals(self, scenarios: Sequence[Scenario]) -> InputGoals | None:
+        """Fresh goals its networks see (``run_episodes``' ``input_goals``); None: the
+        scenarios' goals."""
+        return None if self.make_goals is None else self.make_goals(scenarios, self.profile)
+
+
+def scan_map_resolution(profile: RobotProfile) -> float:
+    """The scan map's cell: half the footprint's circumscribed radius, to 5 mm (0.1 m for
+    the UGV, 0.025 m for the Swarm-Robot; the cells of ``benchmarks/RESULTS.md``, "A map of
+    what the robot read")."""
+    return max(0.005, round(profile.half_diagonal / 2.0 / 0.005) * 0.005)
+
+
+def on_scan_map(contender: Contender) -> Contender:
+    """``contender`` steering to the carrot of a plan on the map of what its own sensors have
+    read (:func:`mentor_core.navigation.scan_map.scan_guided_goals`, unknown space free),
+    named ``mapped-<name>``: memory of where the obstacles are, with nothing of the world
+    known beforehand. An experiment (``benchmarks/RESULTS.md``)."""
+
+    def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> InputGoals:
+        config = guide_config(profile, resolution=scan_map_resolution(profile))
+        return scan_guided_goals(scenarios, profile, config)[0]
+
+    return Contender(MAPPED + contender.name, contender.kind, contender.profile,
+                     contender.make_policy, contender.source, make)  # fmt: skip
 
 
 #: the hand-written planners: name -> (kind, policy maker)

@@ -58,7 +58,8 @@ def run_contender(
         scenarios = [suite.pairs[i].scenario for i in idx]
         t0 = time.perf_counter()
         batch = run_episodes(scenarios, contender.profile, contender.policy(scenarios),
-                             time_budgets=budgets[idx])  # fmt: skip
+                             time_budgets=budgets[idx],
+                             input_goals=contender.input_goals(scenarios))  # fmt: skip
         parts.append(outcomes(batch, contender.profile))
         if progress is not None:
             done = int(np.count_nonzero(batch.reached))

@@ -22,7 +22,13 @@ from pathlib import Path
 import matplotlib
 
 from mentor_core.atomic import write_json_atomic, write_text_atomic
-from mentor_core.benchmark.contenders import HAND_WRITTEN, Contender, evolved, hand_written
+from mentor_core.benchmark.contenders import (
+    HAND_WRITTEN,
+    Contender,
+    evolved,
+    hand_written,
+    on_scan_map,
+)
 from mentor_core.benchmark.document import bench_document
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile
@@ -45,6 +51,9 @@ def build_parser() -> argparse.ArgumentParser:
                                                    if k == "baseline"),
                    help="comma-separated baselines, or 'none' (default vfh,bug)")  # fmt: skip
     p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
+    p.add_argument("--scan-map", action="store_true",
+                   help="also run each planner but the oracle steering to a plan on the map of "
+                        "what its own sensors read, as mapped-<label> (an experiment)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     return p
@@ -67,6 +76,8 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
             raise MentorError(f"--baselines: unknown baseline {name!r} (known: {known})")
     reference = reference_profile(robot)
     chosen += [hand_written(n, reference) for n in names]
+    if args.scan_map:
+        chosen += [on_scan_map(c) for c in chosen]
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
 
 
