@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 
 import numpy as np
@@ -13,7 +14,12 @@ from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.loop import Evolution
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.evolution.ranking import scalar_fitness
-from mentor_core.evolution.reporting import GenerationStats, HistoryReporter, Reporter
+from mentor_core.evolution.reporting import (
+    GenerationStats,
+    HistoryReporter,
+    Reporter,
+    StdOutReporter,
+)
 from mentor_core.evolution.species import SpeciationConfig
 
 X = np.array([[0.0, 0.0], [0.0, 1.0], [1.0, 0.0], [1.0, 1.0]])
@@ -246,3 +252,6 @@ def test_a_generation_ranking_column_0_alone_takes_nan_in_the_others() -> None:
     again = Evolution.from_state(state)
     np.testing.assert_array_equal(again.evaluated_objectives, values)
     assert again.best()[1].tolist() == [n - 1.0, 7.0]
+    stream = io.StringIO()
+    StdOutReporter(stream).end_generation(stats)
+    assert "mean [4.5, -]" in stream.getvalue()  # a G not computed shows as "-"

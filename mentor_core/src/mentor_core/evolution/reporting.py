@@ -169,8 +169,9 @@ class StdOutReporter(Reporter):
         print(text, file=self._stream if self._stream is not None else sys.stdout)
 
     def end_generation(self, stats: GenerationStats) -> None:
-        best = ", ".join(f"{v:.4g}" for v in stats.best_objectives)
-        mean = ", ".join(f"{v:.4g}" for v in stats.mean_objectives)
+        # "-": an objective not computed in this generation (NaN)
+        best = ", ".join("-" if math.isnan(v) else f"{v:.4g}" for v in stats.best_objectives)
+        mean = ", ".join("-" if math.isnan(v) else f"{v:.4g}" for v in stats.mean_objectives)
         self._write(
             f"gen {stats.generation:4d}  evals {stats.evaluations:7d}  best [{best}]  "
             f"mean [{mean}]  species {stats.species_count:3d}  "
