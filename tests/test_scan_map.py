@@ -87,3 +87,14 @@ def test_every_robot_plans_on_its_own_map() -> None:
         assert (guides[0].map.data[:, inner] == OCCUPIED).any() == arcs
         assert (guides[0].map.data[40, 35:55] == FREE).all()
         assert not (guides[1].map.data[:, inner] == OCCUPIED).any()  # robot 1's world: none
+
+
+def test_a_single_ray_sensor_counts_once_beside_the_beams() -> None:
+    open_world = World(12.0, np.zeros((0, 4)))
+    pose = np.array([[6.0, 6.0, 0.0]])
+    goals, guides = scan_guided_goals([Scenario(open_world, (6.0, 6.0, 0.0), (9.0, 6.0))], UGV,
+                                      guide_config(UGV, resolution=0.1))  # fmt: skip
+    goals(pose, np.array([0]))
+    frame = sensor_frames(pose, UGV)[0, 2]  # left-front: one ray, away from the front cones
+    x, y = frame[:2] + 2.0 * np.array([math.cos(frame[2]), math.sin(frame[2])])
+    assert guides[0].map.misses[int(y / 0.1), int(x / 0.1)] == 1

@@ -19,6 +19,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mentor_core.navigation.follow import point_at, progress
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 from mentor_core.navigation.guide import GuideConfig, PathGuide
 from mentor_core.sim.robots import RobotProfile
@@ -56,8 +57,11 @@ class ScanMap:
         """``(n, n)`` cell values: -1 unknown, 0 free, 100 occupied (module docstring)."""
         out = np.full(self.hits.shape, UNKNOWN, dtype=np.int8)
         out[self.misses > 0] = FREE
-        out[(self.hits > 0) & (self.hits >= self.misses)] = OCCUPIED
+        out[self._occupied()] = OCCUPIED
         return out
+
+    def _occupied(self) -> NDArray[np.bool_]:
+        return (self.hits > 0) & (self.hits >= self.misses)
 
     def update(
         self, rays: ArrayLike, readings: ArrayLike, max_range: float,
@@ -70,7 +74,7 @@ class ScanMap:
         became occupied."""
         f = np.asarray(rays, dtype=np.float64).reshape(-1, 3)
         r = np.asarray(readings, dtype=np.float64).reshape(-1)
-        before = self.data == OCCUPIED
+        before = self._occupied()
         marks = np.ones(len(r), dtype=bool) if located is None else np.asarray(located, bool)
         hit = np.isfinite(r) & (r < max_range)
         reach = np.where(hit, r, max_range)
@@ -88,7 +92,7 @@ class ScanMap:
         ends = self._cells(f[hit, 1] + sin[hit] * reach[hit], f[hit, 0] + cos[hit] * reach[hit])
         cells = np.unique(np.stack(ends), axis=1)  # a cell hit by several rays of a cone: once
         np.add.at(self.hits, (cells[0], cells[1]), 1)
-        rows, cols = np.nonzero((self.data == OCCUPIED) & ~before)
+        rows, cols = np.nonzero(self._occupied() & ~before)
         return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution
 
     def grid(self) -> OccupancyGrid:
@@ -126,18 +130,10 @@ class ScanGuide:
 
 
 def _near(cells: FloatArray, path: FloatArray, config: GuideConfig) -> bool:
-    """Whether a cell centre lies within the planner's disc plus a cell of a path vertex or
-    of points every cell along the path's segments."""
+    """Whether a cell centre lies within the planner's disc plus a cell of the path (its
+    nearest point on the path, :func:`~mentor_core.navigation.follow.progress`)."""
     reach = config.inflation + config.resolution
-    seg = np.diff(path, axis=0)
-    lengths = np.hypot(seg[:, 0], seg[:, 1])
-    pieces = [path[:1]]
-    for a, d, length in zip(path[:-1], seg, lengths, strict=True):
-        k = max(1, math.ceil(length / config.resolution))
-        pieces.append(a + d * (np.arange(1, k + 1) / k)[:, None])
-    points = np.concatenate(pieces)
-    d2 = ((cells[:, None, :] - points[None, :, :]) ** 2).sum(axis=2)
-    return bool((d2 <= reach * reach).any())
+    return any(math.dist(c, point_at(path, progress(path, c))) <= reach for c in cells)
 
 
 def scan_guided_goals(
@@ -154,6 +150,9 @@ def scan_guided_goals(
     if profile.beam_rays > 1 and profile.beam_sensors is not None:
         beam[list(profile.beam_sensors)] = True
     located = np.repeat(beam_arcs | ~beam, profile.beam_rays)  # per ray, sensor-major
+    # every ray of a beam, one of a single-ray sensor (beam_frames repeats its ray)
+    first = np.arange(located.size) % profile.beam_rays == 0
+    distinct = np.repeat(beam, profile.beam_rays) | first
 
     def input_goals(poses: FloatArray, robots: IntArray) -> FloatArray:
         out = np.empty((len(robots), 2), dtype=np.float64)
@@ -161,10 +160,10 @@ def scan_guided_goals(
         for k, i in enumerate(robots.tolist()):
             sc = scenarios[i]
             readings = sensor_readings(poses[k : k + 1], profile, sc.world)[0]
-            per_ray = np.broadcast_to(readings[:, None], rays.shape[1:3])
-            out[k] = guides[i].target(rays[k].reshape(-1, 3), per_ray.reshape(-1),
+            per_ray = np.broadcast_to(readings[:, None], rays.shape[1:3]).reshape(-1)
+            out[k] = guides[i].target(rays[k].reshape(-1, 3)[distinct], per_ray[distinct],
                                       profile.sensor_range, poses[k, :2], sc.goal,
-                                      located)  # fmt: skip
+                                      located[distinct])  # fmt: skip
         return out
 
     return input_goals, guides
