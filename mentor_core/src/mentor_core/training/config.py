@@ -125,6 +125,13 @@ class TrainerConfig:
     back as inputs at the next decision (0 at the first), a context memory NEAT can evolve to
     latch a state, such as the side of a wall it follows (0: none, as in the paper); also
     written into the metadata."""
+    novelty_neighbours: Annotated[Int, Field(ge=1)] | None = None
+    """When set, novelty search's sparseness over this many nearest behaviours (the final
+    positions in every training scenario; mentor_core.objectives.novelty) is ranked as a third
+    objective wherever (F, G) are ranked (null: no novelty, as in the paper); an experiment of
+    benchmarks/RESULTS.md."""
+    novelty_archive_growth: Annotated[Int, Field(ge=0)] = 5
+    """Behaviours of the most novel genomes added to the novelty archive each generation."""
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
     """The MENTOR evolution parameters (population, rates, speciation); in a config file a
     mapping of the keys that differ from the robot's paper values (Table I)."""

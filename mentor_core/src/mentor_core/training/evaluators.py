@@ -54,6 +54,7 @@ def _concat(parts: Sequence[Evaluation], gains: GainScope) -> Evaluation:
         objectives=objectives,
         success_rate=np.concatenate([p.success_rate for p in parts]),
         collision_rate=np.concatenate([p.collision_rate for p in parts]),
+        behaviour=np.concatenate([p.behaviour for p in parts], axis=0),
     )
 
 

@@ -57,11 +57,15 @@ class Evaluation:
             NaN where it was not computed (``gains="best"``).
         success_rate: (n_genomes,) share of scenarios whose goal was reached.
         collision_rate: (n_genomes,) share of scenarios that ended in a collision.
+        behaviour: (n_genomes, 2 n_scenarios) the robot's final position (x, y) in each
+            scenario over its world's size: the behaviour novelty search compares
+            (``objectives.novelty``; not in the paper).
     """
 
     objectives: NDArray[np.float64]
     success_rate: NDArray[np.float64]
     collision_rate: NDArray[np.float64]
+    behaviour: NDArray[np.float64]
 
 
 class NavigationProblem:
@@ -167,7 +171,8 @@ class NavigationProblem:
         n_gen, n_scen = len(genomes), len(self.scenarios)
         if n_gen == 0:
             empty = np.zeros(0, dtype=np.float64)
-            return Evaluation(np.zeros((0, 2), dtype=np.float64), empty, empty)
+            none = np.zeros((0, 2 * n_scen), dtype=np.float64)
+            return Evaluation(np.zeros((0, 2), dtype=np.float64), empty, empty, none)
         batch = self.simulate(genomes)
         per_scenario = scenario_performance(
             batch.reached,
@@ -190,7 +195,16 @@ class NavigationProblem:
             objectives=objectives,
             success_rate=batch.reached.reshape(n_gen, n_scen).mean(axis=1),
             collision_rate=batch.collided.reshape(n_gen, n_scen).mean(axis=1),
+            behaviour=self.behaviour(batch),
         )
+
+    def behaviour(self, batch: EpisodeBatch) -> NDArray[np.float64]:
+        """Final positions of ``batch``'s robots over their world's size, (n_genomes, 2 S)."""
+        n_scen = len(self.scenarios)
+        robots = np.arange(len(batch.steps))
+        final = batch.trajectories[robots, batch.steps, :2]
+        size = np.array([sc.world.size for sc in self.scenarios] * (len(robots) // n_scen))
+        return np.asarray((final / size[:, None]).reshape(-1, 2 * n_scen), dtype=np.float64)
 
     def final_distance(self, batch: EpisodeBatch) -> NDArray[np.float64]:
         """S_f of each robot of ``batch`` (genome-major over this problem's scenarios), m."""

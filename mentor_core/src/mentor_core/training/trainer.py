@@ -31,6 +31,7 @@ from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.loop import Evolution, Mode
 from mentor_core.files.genome_file import save_genome
 from mentor_core.objectives.complexity import flops_ratio
+from mentor_core.objectives.novelty import most_novel, sparseness
 from mentor_core.sim.robots import RobotProfile, get_profile, sensor_record, with_planner
 from mentor_core.sim.scenarios import DoEConfig, training_scenarios
 from mentor_core.training.config import TrainerConfig
@@ -56,6 +57,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "doe": DoEConfig().to_dict(), "families": [], "family_pairs": 5,
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
+    "novelty_neighbours": None, "novelty_archive_growth": 5,
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -145,11 +147,25 @@ class _Run:
         self.config = config
         self.seed = seed
         self.problem = problem
+        ranked = 2 if config.novelty_neighbours is None else 3  # (F, G) or (F, G, novelty)
         self.evolution = Evolution(
-            config.evolution, problem.n_inputs, problem.n_outputs, seed=seed, objectives=2
+            config.evolution, problem.n_inputs, problem.n_outputs, seed=seed, objectives=ranked
         )
         self.generation = 0
         self.history: list[GenerationRecord] = []
+        # behaviours of past generations' most novel genomes (novelty search only)
+        self.archive = np.zeros((0, 2 * len(problem.scenarios)), dtype=np.float64)
+
+    def ranked_objectives(self, evaluation: Evaluation) -> np.ndarray:
+        """What the evolution ranks: (F, G), and with novelty search each genome's novelty
+        against the population and the archive, which then takes the most novel."""
+        k = self.config.novelty_neighbours
+        if k is None:
+            return evaluation.objectives
+        novelty = sparseness(evaluation.behaviour, self.archive, k)
+        added = evaluation.behaviour[most_novel(novelty, self.config.novelty_archive_growth)]
+        self.archive = np.concatenate([self.archive, added], axis=0)
+        return np.column_stack([evaluation.objectives, novelty])
 
     def stage_of(self, generation: int) -> tuple[int, Mode, bool]:
         """(stage index, mode, is this the stage's last generation) of a generation."""
@@ -170,6 +186,7 @@ class _Run:
             "generation": self.generation,
             "evolution": self.evolution.to_state(),
             "history": history_csv(self.history),
+            **({"novelty_archive": self.archive.tolist()} if len(self.archive) else {}),
         }
 
     def load_state(self, state: Any, path: Path) -> None:
@@ -187,6 +204,8 @@ class _Run:
             self.evolution = Evolution.from_state(state["evolution"])
             self.generation = int(state["generation"])
             self.history = history_from_csv(state["history"])
+            archive = np.asarray(state.get("novelty_archive", []), dtype=np.float64)
+            self.archive = archive.reshape(-1, self.archive.shape[1])
         except (KeyError, TypeError, ValueError) as err:
             raise FileFormatError(path, f"corrupt checkpoint ({one_line(err)})") from None
 
@@ -257,7 +276,7 @@ def _train(
             # history only and cost more than the simulation
             final = run.generation == total - 1
             evaluation = evaluator.evaluate(genomes, "all" if mode == "multi" or final else "best")
-            stats = run.evolution.tell(evaluation.objectives, mode=mode)
+            stats = run.evolution.tell(run.ranked_objectives(evaluation), mode=mode)
             if stage_end and mode == "multi":
                 # stage 1 -> 2: keep the Pareto set, then seed stage 2 from the best by F
                 write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, stage))
