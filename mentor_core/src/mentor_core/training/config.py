@@ -128,8 +128,8 @@ class TrainerConfig:
     novelty_neighbours: Annotated[Int, Field(ge=1)] | None = None
     """When set, novelty search's sparseness over this many nearest behaviours (the final
     positions in every training scenario; mentor_core.objectives.novelty) is ranked as a third
-    objective wherever (F, G) are ranked (null: no novelty, as in the paper); an experiment of
-    benchmarks/RESULTS.md."""
+    objective wherever (F, G) are ranked (null: no novelty, as in the paper; the shipped
+    Swarm-Robot config: 15); docs/algorithm.md "Novelty search"."""
     novelty_archive_growth: Annotated[Int, Field(ge=0)] = 5
     """Behaviours of the most novel genomes added to the novelty archive each generation."""
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
