@@ -40,6 +40,17 @@ PREFIXES = (1, 2, 3, 4, 6, 8, 12)
 
 
 @compiled()
+def join_nearest(inside: np.ndarray, best: np.ndarray) -> int:  # pragma: no cover - compiled
+    """Prim's step: the outside point of the smallest link joins the tree; its index."""
+    nearest, value = -1, np.inf
+    for j in range(len(best)):
+        if not inside[j] and best[j] < value:
+            value, nearest = best[j], j
+    inside[nearest] = True
+    return nearest
+
+
+@compiled()
 def prefix_counts(points: np.ndarray, prefixes: np.ndarray) -> np.ndarray:  # pragma: no cover
     """[pairs, shorten, below-link over each prefix of the coordinates...] of a plain Prim."""
     n, d = points.shape
@@ -64,12 +75,7 @@ def prefix_counts(points: np.ndarray, prefixes: np.ndarray) -> np.ndarray:  # pr
             if s < best[j]:
                 best[j] = s
                 counts[1] += 1
-        nearest, value = -1, np.inf
-        for j in range(n):
-            if not inside[j] and best[j] < value:
-                value, nearest = best[j], j
-        inside[nearest] = True
-        last = nearest
+        last = join_nearest(inside, best)
     return counts
 
 
@@ -117,12 +123,7 @@ def block_share(points: np.ndarray, size: int) -> float:  # pragma: no cover - c
                 best[j] = min(best[j], s)
                 top = max(top, best[j])
             largest[b] = top
-        nearest, value = -1, np.inf
-        for j in range(n):
-            if not inside[j] and best[j] < value:
-                value, nearest = best[j], j
-        inside[nearest] = True
-        last = nearest
+        last = join_nearest(inside, best)
     return swept / total
 
 

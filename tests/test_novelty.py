@@ -90,14 +90,17 @@ def test_the_run_ranks_novelty_against_the_population_and_a_growing_archive() ->
     problem = make_problem(config)
     run = _Run(config, 1, problem)
     evaluation = InProcessEvaluator(problem).evaluate(run.evolution.ask())
-    ranked = run.ranked_objectives(evaluation)
+    ranked = run.ranked_objectives(evaluation, "multi")
     expected = sparseness(evaluation.behaviour, np.zeros((0, 6)), 3)
     assert np.array_equal(ranked[:, :2], evaluation.objectives)
     assert np.array_equal(ranked[:, 2], expected)
     assert np.array_equal(run.archive, evaluation.behaviour[most_novel(expected, 2)])
-    ranked = run.ranked_objectives(evaluation)  # the archive now holds two of them
+    ranked = run.ranked_objectives(evaluation, "multi")  # the archive now holds two of them
     assert np.array_equal(ranked[:, 2], sparseness(evaluation.behaviour, run.archive[:2], 3))
     assert len(run.archive) == 4
+    # where F is ranked alone, novelty is neither computed nor archived
+    ranked = run.ranked_objectives(evaluation, "single")
+    assert np.isnan(ranked[:, 2]).all() and len(run.archive) == 4
 
 
 def test_a_novelty_run_resumes_to_the_same_files_and_differs_from_one_without(
@@ -108,6 +111,8 @@ def test_a_novelty_run_resumes_to_the_same_files_and_differs_from_one_without(
     train(config, tmp_path / "broken", seed=2, stop_after=1)
     state = json.loads((tmp_path / "broken" / "checkpoint.json").read_text())
     assert np.asarray(state["novelty_archive"]).shape == (2, 6)
+    whole_state = json.loads((tmp_path / "whole" / "checkpoint.json").read_text())
+    assert np.asarray(whole_state["novelty_archive"]).shape == (4, 6)  # stage 1's 2 generations
     train(config, tmp_path / "broken", seed=2, resume=True)
     for name in ("best_genome.json", "population.json", "pareto.json", "checkpoint.json"):
         whole = (tmp_path / "whole" / name).read_text()

@@ -156,12 +156,16 @@ class _Run:
         # behaviours of past generations' most novel genomes (novelty search only)
         self.archive = np.zeros((0, 2 * len(problem.scenarios)), dtype=np.float64)
 
-    def ranked_objectives(self, evaluation: Evaluation) -> np.ndarray:
-        """What the evolution ranks: (F, G), and with novelty search each genome's novelty
-        against the population and the archive, which then takes the most novel."""
+    def ranked_objectives(self, evaluation: Evaluation, mode: Mode) -> np.ndarray:
+        """What the evolution is told: (F, G), and with novelty search each genome's novelty
+        against the population and the archive, which then takes the most novel; where F
+        is ranked alone ("single"), the novelty column is NaN (not computed) as G's is."""
         k = self.config.novelty_neighbours
         if k is None:
             return evaluation.objectives
+        if mode == "single":
+            unranked = np.full(len(evaluation.objectives), np.nan)
+            return np.column_stack([evaluation.objectives, unranked])
         novelty = sparseness(evaluation.behaviour, self.archive, k)
         added = evaluation.behaviour[most_novel(novelty, self.config.novelty_archive_growth)]
         self.archive = np.concatenate([self.archive, added], axis=0)
@@ -276,7 +280,7 @@ def _train(
             # history only and cost more than the simulation
             final = run.generation == total - 1
             evaluation = evaluator.evaluate(genomes, "all" if mode == "multi" or final else "best")
-            stats = run.evolution.tell(run.ranked_objectives(evaluation), mode=mode)
+            stats = run.evolution.tell(run.ranked_objectives(evaluation, mode), mode=mode)
             if stage_end and mode == "multi":
                 # stage 1 -> 2: keep the Pareto set, then seed stage 2 from the best by F
                 write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, stage))
