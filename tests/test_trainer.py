@@ -130,7 +130,8 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
         train(tiny(), tmp_path, seed=3, resume=True)
     # written before the sensor record and the newer config keys: resumed as it was meant
     del state["sensors"]
-    for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe"):
+    for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe",
+                "novelty_neighbours", "novelty_archive_growth"):
         del state["config"][key]
     del state["config"]["evolution"]["mutation"]["recurrent_rate"]
     checkpoint.write_text(json.dumps(state))
