@@ -75,6 +75,11 @@ class EpisodeBatch:
         left = np.clip(self.time_budget - self.time_used, 0.0, self.time_budget)
         return np.where(self.reached, left, 0.0)
 
+    @property
+    def final_position(self) -> FloatArray:
+        """``(n, 2)`` where each robot stood after its last decision, m."""
+        return self.trajectories[np.arange(len(self.steps)), self.steps, :2]
+
 
 def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
     """Indices of the scenarios of each distinct world, in order of first appearance."""

@@ -201,10 +201,9 @@ class NavigationProblem:
     def behaviour(self, batch: EpisodeBatch) -> NDArray[np.float64]:
         """Final positions of ``batch``'s robots over their world's size, (n_genomes, 2 S)."""
         n_scen = len(self.scenarios)
-        robots = np.arange(len(batch.steps))
-        final = batch.trajectories[robots, batch.steps, :2]
-        size = np.array([sc.world.size for sc in self.scenarios] * (len(robots) // n_scen))
-        return np.asarray((final / size[:, None]).reshape(-1, 2 * n_scen), dtype=np.float64)
+        sizes = np.array([sc.world.size for sc in self.scenarios])
+        final = batch.final_position.reshape(-1, n_scen, 2) / sizes[None, :, None]
+        return np.asarray(final.reshape(-1, 2 * n_scen), dtype=np.float64)
 
     def final_distance(self, batch: EpisodeBatch) -> NDArray[np.float64]:
         """S_f of each robot of ``batch`` (genome-major over this problem's scenarios), m."""
@@ -213,7 +212,7 @@ class NavigationProblem:
         out = batch.final_distance.copy()
         n_scen = len(self.scenarios)
         robots = np.flatnonzero(~batch.reached)
-        final = batch.trajectories[robots, batch.steps[robots], :2]
+        final = batch.final_position[robots]
         for s, to_goal in enumerate(self._to_goal):
             mine = robots % n_scen == s
             if mine.any():
