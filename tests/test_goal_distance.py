@@ -54,6 +54,27 @@ def test_matches_the_graph_query_from_the_start() -> None:
     assert (ours[finite] >= straight[finite] - 1e-12).all()
 
 
+def test_waypoints_head_along_the_shortest_way() -> None:
+    to_goal = GoalDistance(VisibilityGraph(WALL, 0.1), (8.0, 4.0), 1.0)
+    way = to_goal.waypoints([(2.0, 4.0), (8.0, 1.0), (5.45, 4.0)])
+    assert way[0] == pytest.approx([4.9, 8.1], abs=1e-12)  # the grown wall's top corner
+    assert way[1] == pytest.approx([8.0, 4.0])  # in sight: straight for the goal
+    assert np.isnan(way[2]).all()  # inside the grown wall: no way
+    # on random worlds, the way through the waypoint is the shortest way
+    rng = np.random.default_rng(5)
+    boxes = rng.uniform(0.0, 10.0, (12, 2))
+    world = World(12.0, np.concatenate([boxes, boxes + rng.uniform(0.3, 2.0, (12, 2))], axis=1))
+    to_goal = GoalDistance(VisibilityGraph(world, 0.15), (11.0, 11.0), 0.5)
+    points = rng.uniform(0.0, 12.0, (200, 2))
+    dist, way = to_goal(points), to_goal.waypoints(points)
+    finite = np.isfinite(dist)
+    assert (np.isnan(way[~finite])).all() and np.isfinite(way[finite]).all()
+    corner = finite & (np.hypot(*(way - (11.0, 11.0)).T) > 1e-12)
+    assert corner.sum() > 20
+    through = np.hypot(*(points[corner] - way[corner]).T) + to_goal(way[corner])
+    assert through == pytest.approx(dist[corner], rel=1e-12, abs=1e-12)
+
+
 def test_compiled_visibility_gives_the_numpy_verdicts() -> None:
     if shortest_path._blocked_numba is None:
         pytest.skip("numba is not importable")

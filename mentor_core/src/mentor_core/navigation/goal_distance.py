@@ -47,13 +47,32 @@ class GoalDistance:
 
     def __call__(self, points: ArrayLike) -> FloatArray:
         """``(m,)`` distances from ``points`` (the first two values of each row, m)."""
+        return self._search(points)[0]
+
+    def waypoints(self, points: ArrayLike) -> FloatArray:
+        """``(m, 2)`` where the shortest way from each point heads first (m): the goal when
+        the point sees into its disc, else the first corner of the way round; NaN where the
+        distance is ``inf``. A cost-to-go expert's next target from anywhere in the free
+        space (``benchmarks/imitation_ceiling.py``)."""
+        dist, corner = self._search(points)
+        out = np.tile(self.goal, (len(dist), 1))
+        via = corner >= 0
+        out[via] = self.graph.nodes[corner[via]]
+        out[~np.isfinite(dist)] = np.nan
+        return out
+
+    def _search(self, points: ArrayLike) -> tuple[FloatArray, NDArray[np.int64]]:
+        """Distances ``(m,)`` and the first corner of each way (index into the graph's
+        nodes; -1 straight into the disc or no way)."""
         p = np.atleast_2d(np.asarray(points, dtype=np.float64))[:, :2]
         out = np.full(len(p), np.inf)
+        first = np.full(len(p), -1, dtype=np.int64)
         free = self.graph.free(p)
         if not self._goal_free or not free.any():
-            return out
+            return out, first
         q = p[free]
         best = self.graph.legs_to_disc(q, self.goal, self.goal_radius)
+        corner = np.full(len(q), -1, dtype=np.int64)
         corners = self.graph.nodes
         if len(corners):
             # a point that sees into the disc goes straight; the others need the corners
@@ -66,6 +85,11 @@ class GoalDistance:
                 seen = self.graph.visible(a, b).reshape(len(chunk), len(corners))
                 d = np.hypot(*(a - b).T).reshape(len(chunk), len(corners))
                 total = np.where(seen, d + self._via[None, :], np.inf)
-                best[chunk] = np.minimum(best[chunk], total.min(axis=1))
+                k = total.argmin(axis=1)
+                shortest = total[np.arange(len(chunk)), k]
+                better = shortest < best[chunk]
+                best[chunk] = np.where(better, shortest, best[chunk])
+                corner[chunk] = np.where(better, k, corner[chunk])
         out[free] = best
-        return out
+        first[free] = corner
+        return out, first
