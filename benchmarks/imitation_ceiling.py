@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import itertools
 import json
 import time
 from collections.abc import Sequence
@@ -104,7 +105,7 @@ class Perceptron:
     def __init__(self, n_in: int, n_out: int, hidden: Sequence[int], seed: int) -> None:
         rng = np.random.default_rng(seed)
         sizes = [n_in, *hidden, n_out]
-        self.w = [rng.normal(0.0, 1.0 / np.sqrt(a), (a, b)) for a, b in zip(sizes, sizes[1:])]
+        self.w = [rng.normal(0.0, 1.0 / np.sqrt(a), (a, b)) for a, b in itertools.pairwise(sizes)]
         self.b = [np.zeros(b) for b in sizes[1:]]
         self.mean, self.sd = np.zeros(n_in), np.ones(n_in)
         self.rng = rng
@@ -114,7 +115,7 @@ class Perceptron:
 
     def _forward(self, z: FloatArray) -> list[FloatArray]:
         acts = [z]
-        for i, (w, b) in enumerate(zip(self.w, self.b)):
+        for i, (w, b) in enumerate(zip(self.w, self.b, strict=True)):
             a = acts[-1] @ w + b
             acts.append(np.tanh(a) if i < len(self.w) - 1 else 1.0 / (1.0 + np.exp(-a)))
         return acts
@@ -143,7 +144,7 @@ class Perceptron:
                     if i:
                         grad = (grad @ self.w[i].T) * (1.0 - acts[i] ** 2)
                 step += 1
-                for q, g, a, v in zip(params, gw + gb, m1, m2):
+                for q, g, a, v in zip(params, gw + gb, m1, m2, strict=True):
                     a *= 0.9
                     a += 0.1 * g
                     v *= 0.999
