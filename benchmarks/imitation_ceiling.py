@@ -153,20 +153,52 @@ class Perceptron:
         return float(np.mean((self(x) - y) ** 2))
 
 
-def rollout(scenarios: Sequence[Scenario], profile: RobotProfile, expert: Expert,
-            learner: Perceptron | None) -> tuple[FloatArray, FloatArray, float]:  # fmt: skip
+class History:
+    """A learner's inputs with ``steps`` decisions of history (``--history``): the inputs of
+    the previous ``steps`` decisions and the outputs taken then (zero outputs and the first
+    inputs before the first decision), per robot."""
+
+    def __init__(self, n_robots: int, n_inputs: int, n_outputs: int, steps: int) -> None:
+        self.steps = steps
+        self.inputs = np.full((steps, n_robots, n_inputs), np.nan)
+        self.outputs = np.zeros((steps, n_robots, n_outputs))
+
+    def features(self, inputs: FloatArray, robots: IntArray) -> FloatArray:
+        """The learner's input rows for ``robots`` seeing ``inputs`` now."""
+        if not self.steps:
+            return inputs
+        past = self.inputs[:, robots]
+        past = np.where(np.isnan(past), inputs[None], past)
+        return np.concatenate([inputs, *past, *self.outputs[:, robots]], axis=1)
+
+    def update(self, robots: IntArray, inputs: FloatArray, outputs: FloatArray) -> None:
+        """Remember this decision's inputs and outputs."""
+        if self.steps:
+            self.inputs[:, robots] = np.roll(self.inputs[:, robots], 1, axis=0)
+            self.outputs[:, robots] = np.roll(self.outputs[:, robots], 1, axis=0)
+            self.inputs[0, robots] = inputs
+            self.outputs[0, robots] = outputs
+
+
+def rollout(
+    scenarios: Sequence[Scenario], profile: RobotProfile, expert: Expert,
+    learner: Perceptron | None, steps: int,
+) -> tuple[FloatArray, FloatArray, float]:  # fmt: skip
     """Drive every scenario (the expert when ``learner`` is None); the inputs seen, the
     expert's outputs there, and the share of goals reached."""
     odometry = Odometry([sc.start for sc in scenarios])
+    history = History(len(scenarios), profile.n_inputs, profile.n_outputs, steps)
     seen: list[FloatArray] = []
     labels: list[FloatArray] = []
 
     def policy(inputs: FloatArray, robots: IntArray) -> FloatArray:
         wanted = expert.outputs(odometry.poses[robots], robots)
-        seen.append(inputs.copy())
+        features = history.features(inputs, robots)
+        seen.append(features)
         labels.append(wanted)
-        out = wanted if learner is None else learner(inputs)
+        out = wanted if learner is None else learner(features)
         odometry.advance(robots, out, inputs, profile)
+        history.update(robots, inputs, out)
         return out
 
     batch = run_episodes(scenarios, profile, policy, time_budgets=PAPER_LIMIT)
@@ -174,13 +206,21 @@ def rollout(scenarios: Sequence[Scenario], profile: RobotProfile, expert: Expert
 
 
 def contender(
-    name: str, profile: RobotProfile, learner: Perceptron | None, margin: float
+    name: str, profile: RobotProfile, learner: Perceptron | None, margin: float, steps: int = 0
 ) -> Contender:
-    """The learner or, for None, the expert, as a benchmark planner."""
+    """The learner (with ``steps`` of history) or, for None, the expert, as a benchmark
+    planner."""
 
     def policy(scenarios: Sequence[Scenario], prof: RobotProfile) -> Policy:
         if learner is not None:
-            return lambda inputs, robots: learner(inputs)
+            history = History(len(scenarios), prof.n_inputs, prof.n_outputs, steps)
+
+            def act(inputs: FloatArray, robots: IntArray) -> FloatArray:
+                out = learner(history.features(inputs, robots))
+                history.update(robots, inputs, out)
+                return out
+
+            return act
         expert = Expert(scenarios, prof, margin)
         odometry = Odometry([sc.start for sc in scenarios])
 
@@ -205,6 +245,12 @@ def main() -> None:
     p.add_argument("--epochs", type=int, default=20)
     p.add_argument("--hidden", type=int, nargs="+", default=[64, 64])
     p.add_argument("--margin", type=float, default=1.5, help="expert's disc, half diagonals")
+    p.add_argument(
+        "--history",
+        type=int,
+        default=0,
+        help="decisions of past inputs and outputs the learner also sees",
+    )
     p.add_argument("--pairs-per-family", type=int, default=20)
     p.add_argument("--out", type=Path, required=True)
     args = p.parse_args()
@@ -221,7 +267,8 @@ def main() -> None:
     suite = build_suite(get_profile(args.robot), "validation",
                         pairs_per_family=args.pairs_per_family)  # fmt: skip
     expert = Expert(scenarios, profile, args.margin)
-    learner = Perceptron(profile.n_inputs, profile.n_outputs, args.hidden, seed=0)
+    width = profile.n_inputs + args.history * (profile.n_inputs + profile.n_outputs)
+    learner = Perceptron(width, profile.n_outputs, args.hidden, seed=0)
     rows = []
     began = time.perf_counter()
     scored = run_contender(suite, contender("expert", profile, None, args.margin))
@@ -232,11 +279,15 @@ def main() -> None:
     xs: list[FloatArray] = []
     ys: list[FloatArray] = []
     for k in range(args.rounds):
-        x, y, reached = rollout(scenarios, profile, expert, None if k == 0 else learner)
+        x, y, reached = rollout(
+            scenarios, profile, expert, None if k == 0 else learner, args.history
+        )
         xs.append(x)
         ys.append(y)
         mse = learner.fit(np.concatenate(xs), np.concatenate(ys), args.epochs)
-        scored = run_contender(suite, contender(f"round{k}", profile, learner, args.margin))
+        scored = run_contender(
+            suite, contender(f"round{k}", profile, learner, args.margin, args.history)
+        )
         overall = scored.scores["paper"]["overall"]
         rows.append({"round": k, "train_success": reached, "samples": int(sum(map(len, xs))),
                      "mse": mse, "validation": scored.scores["paper"]})  # fmt: skip
