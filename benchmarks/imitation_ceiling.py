@@ -251,6 +251,7 @@ def main() -> None:
         default=0,
         help="decisions of past inputs and outputs the learner also sees",
     )
+    p.add_argument("--learner-seed", type=int, default=0, help="the perceptron's weights, order")
     p.add_argument("--pairs-per-family", type=int, default=20)
     p.add_argument("--out", type=Path, required=True)
     args = p.parse_args()
@@ -268,7 +269,7 @@ def main() -> None:
                         pairs_per_family=args.pairs_per_family)  # fmt: skip
     expert = Expert(scenarios, profile, args.margin)
     width = profile.n_inputs + args.history * (profile.n_inputs + profile.n_outputs)
-    learner = Perceptron(width, profile.n_outputs, args.hidden, seed=0)
+    learner = Perceptron(width, profile.n_outputs, args.hidden, seed=args.learner_seed)
     rows = []
     began = time.perf_counter()
     scored = run_contender(suite, contender("expert", profile, None, args.margin))
