@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from mentor_core.objectives.performance import path_credit
 from mentor_core.sim.episode import EpisodeBatch
 from mentor_core.sim.robots import RobotProfile
 
@@ -53,18 +54,9 @@ class Outcomes:
 
 def outcomes(batch: EpisodeBatch, profile: RobotProfile) -> Outcomes:
     """The :class:`Outcomes` of an episode batch (``profile`` the planner's own)."""
-    k = profile.n_sensors
-    dt = profile.control_period
-    lengths = np.empty(len(batch.reached), dtype=np.float64)
-    for i, points in enumerate(batch.experience):
-        ds = points[:, k + 1].copy()
-        if batch.reached[i] and len(ds):
-            # the arriving decision counts up to the sample that reached the goal
-            ds[-1] *= (batch.time_used[i] - (len(ds) - 1) * dt) / dt
-        lengths[i] = float(ds.sum())
     return Outcomes(
         reached=batch.reached.copy(), collided=batch.collided.copy(), steps=batch.steps.copy(),
-        time=batch.time_used.copy(), path_length=lengths,
+        time=batch.time_used.copy(), path_length=batch.path_length(profile),
         final_distance=batch.final_distance.copy(),
         trajectories=tuple(batch.trajectories[i, : int(s) + 1].copy()
                            for i, s in enumerate(batch.steps)),
@@ -84,11 +76,7 @@ def under_limit(
 def spl(success: BoolArray, shortest: FloatArray, taken: FloatArray) -> FloatArray:
     """Per-pair ``S_i l_i / max(p_i, l_i)`` (module docstring); 1 for a success with
     ``l = 0``."""
-    l_ = np.asarray(shortest, dtype=np.float64)
-    p = np.asarray(taken, dtype=np.float64)
-    denom = np.maximum(p, l_)
-    ratio = np.divide(l_, denom, out=np.ones_like(l_), where=denom > 0.0)
-    return np.where(success, ratio, 0.0)
+    return np.where(success, path_credit(shortest, taken), 0.0)
 
 
 def summarise(success: BoolArray, collision: BoolArray, time: FloatArray,

@@ -75,6 +75,20 @@ class EpisodeBatch:
         left = np.clip(self.time_budget - self.time_used, 0.0, self.time_budget)
         return np.where(self.reached, left, 0.0)
 
+    def path_length(self, profile: RobotProfile) -> FloatArray:
+        """``(n,)`` arc length each robot drove, m: the sum of its steps ``ds`` (read from its
+        experience points, ``profile`` the planner's), the arriving one counted up to the
+        sample that reached the goal."""
+        k = profile.n_sensors
+        dt = profile.control_period
+        lengths = np.empty(len(self.reached), dtype=np.float64)
+        for i, points in enumerate(self.experience):
+            ds = points[:, k + 1].copy()
+            if self.reached[i] and len(ds):
+                ds[-1] *= (self.time_used[i] - (len(ds) - 1) * dt) / dt
+            lengths[i] = float(ds.sum())
+        return lengths
+
     @property
     def final_position(self) -> FloatArray:
         """``(n, 2)`` where each robot stood after its last decision, m."""

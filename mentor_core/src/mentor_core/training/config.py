@@ -24,7 +24,7 @@ from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
-from mentor_core.training.problem import GoalDistanceKind, TurnFrame
+from mentor_core.training.problem import GoalDistanceKind, SuccessCredit, TurnFrame
 from mentor_core.validation import (
     Bool,
     Float,
@@ -91,6 +91,11 @@ class TrainerConfig:
     """S_f in the performance F of a failed scenario (paper eq. 4): "euclidean", the straight
     distance to the goal (the paper's), or "geodesic", the shortest way round the obstacles
     (mentor_core.training.problem.NavigationProblem); see docs/algorithm.md "Performance"."""
+    success_credit: SuccessCredit = "time"
+    """What a success adds to its 1 in the performance F (paper eq. 4): "time", the share of
+    the time budget left (the paper's), or "path", the shortest path's length over the length
+    driven (the per-pair term of the benchmark's SPL; not in the paper); see docs/algorithm.md
+    "Performance"."""
     turn_commitment: bool = False
     """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
     not in the paper): an experiment of benchmarks/RESULTS.md, applied in training only."""

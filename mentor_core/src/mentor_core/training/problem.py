@@ -6,7 +6,10 @@ genome gets
 
 * F = sum_i F_i, paper eqs. (3)-(4) (``objectives.scenario_performance``); the final
   distance S_f of a failure is the straight one (the paper's) or, with
-  ``goal_distance="geodesic"``, the shortest way round the obstacles (not in the paper), and
+  ``goal_distance="geodesic"``, the shortest way round the obstacles (not in the paper); a
+  success is credited with the time it left (the paper's) or, with
+  ``success_credit="path"``, the efficiency of its path (``objectives.path_credit``, not in
+  the paper), and
 * G = total length of the Euclidean minimum spanning tree over the union of its experience
   points V = [U(t), A(t), U(t+1)], paper eqs. (5)-(8) (``experience.experience_gain``).
 
@@ -31,7 +34,11 @@ from mentor_core.evolution.genome import Genome
 from mentor_core.navigation.goal_distance import GoalDistance
 from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.objectives.experience import experience_gains
-from mentor_core.objectives.performance import scenario_performance
+from mentor_core.objectives.performance import (
+    credited_performance,
+    path_credit,
+    scenario_performance,
+)
 from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.episode import EpisodeBatch, run_episodes
 from mentor_core.sim.goal_frame import goal_frame_turns
@@ -41,6 +48,7 @@ from mentor_core.sim.world import Scenario
 OBJECTIVE_NAMES = ("performance", "experience_gain")
 GoalDistanceKind = Literal["euclidean", "geodesic"]
 TurnFrame = Literal["body", "goal"]
+SuccessCredit = Literal["time", "path"]
 #: which genomes of an ``evaluate`` call get their G: all, or the one of the highest F
 GainScope = Literal["all", "best"]
 # the geodesic S_f's footprint: a little inside the body's inscribed disc, so that a robot
@@ -82,6 +90,10 @@ class NavigationProblem:
     through :class:`~mentor_core.sim.commitment.TurnCommitment` (not in the paper).
     ``turn_frame="goal"``: the turn output names a heading relative to the goal
     (:func:`~mentor_core.sim.goal_frame.goal_frame_turns`; not in the paper).
+    ``success_credit="path"``: a success's credit in F_i is the shortest path's length (the
+    body's circumscribed disc into the goal radius, as the benchmark's SPL measures it) over
+    the length driven, instead of ``T_rem / T_tot`` (not in the paper); where that disc has
+    no path, the straight distance into the goal radius stands in for it.
     """
 
     def __init__(
@@ -94,11 +106,14 @@ class NavigationProblem:
         goal_distance: GoalDistanceKind = "euclidean",
         turn_commitment: bool = False,
         turn_frame: TurnFrame = "body",
+        success_credit: SuccessCredit = "time",
     ) -> None:
         if not scenarios:
             raise ValueError("a NavigationProblem needs at least one scenario")
         if goal_distance not in ("euclidean", "geodesic"):
             raise ValueError(f"goal_distance must be euclidean or geodesic, not {goal_distance!r}")
+        if success_credit not in ("time", "path"):
+            raise ValueError(f"success_credit must be time or path, not {success_credit!r}")
         if turn_frame not in ("body", "goal"):
             raise ValueError(f"turn_frame must be body or goal, not {turn_frame!r}")
         if turn_frame == "goal" and profile.input_encoding != "egocentric":
@@ -111,6 +126,11 @@ class NavigationProblem:
         self.goal_distance = goal_distance
         self.turn_commitment = turn_commitment
         self.turn_frame = turn_frame
+        self.success_credit = success_credit
+        # the shortest paths' lengths (m) for the path credit, computed once
+        self._shortest = (
+            _shortest_lengths(self.scenarios, profile) if success_credit == "path" else None
+        )
         self._to_goal: tuple[GoalDistance, ...] = ()
         if goal_distance == "geodesic":
             radius = _INSCRIBED_SHARE * 0.5 * min(profile.length, profile.width)
@@ -174,12 +194,18 @@ class NavigationProblem:
             none = np.zeros((0, 2 * n_scen), dtype=np.float64)
             return Evaluation(np.zeros((0, 2), dtype=np.float64), empty, empty, none)
         batch = self.simulate(genomes)
-        per_scenario = scenario_performance(
-            batch.reached,
-            batch.time_budget - batch.time_used,
-            batch.time_budget,
-            self.final_distance(batch),
-        ).reshape(n_gen, n_scen)
+        if self._shortest is None:
+            per_scenario = scenario_performance(
+                batch.reached,
+                batch.time_budget - batch.time_used,
+                batch.time_budget,
+                self.final_distance(batch),
+            ).reshape(n_gen, n_scen)
+        else:
+            credit = path_credit(np.tile(self._shortest, n_gen), batch.path_length(self.profile))
+            per_scenario = credited_performance(
+                batch.reached, credit, self.final_distance(batch)
+            ).reshape(n_gen, n_scen)
         objectives = np.zeros((n_gen, 2), dtype=np.float64)
         objectives[:, 0] = per_scenario.sum(axis=1)
         if self.with_experience:
@@ -220,3 +246,19 @@ class NavigationProblem:
                 d = to_goal(final[mine]) + to_goal.goal_radius
                 out[robots[mine]] = np.where(np.isfinite(d), d, out[robots[mine]])
         return out
+
+
+def _shortest_lengths(scenarios: Sequence[Scenario], profile: RobotProfile) -> NDArray[np.float64]:
+    """Per scenario the length of the shortest path of the body's circumscribed disc into the
+    goal radius (m; the benchmark's ``BenchPair.shortest``), the straight distance into the
+    goal radius where there is none."""
+    graphs: dict[int, VisibilityGraph] = {}  # one per world object, built once
+    out = np.empty(len(scenarios), dtype=np.float64)
+    for i, sc in enumerate(scenarios):
+        if id(sc.world) not in graphs:
+            graphs[id(sc.world)] = VisibilityGraph(sc.world, profile.half_diagonal)
+        length = graphs[id(sc.world)].to_disc(sc.start, sc.goal, profile.goal_radius)
+        straight = max(float(np.hypot(sc.goal[0] - sc.start[0], sc.goal[1] - sc.start[1]))
+                       - profile.goal_radius, 0.0)  # fmt: skip
+        out[i] = length if np.isfinite(length) else straight
+    return out
