@@ -131,7 +131,7 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     # written before the sensor record and the newer config keys: resumed as it was meant
     del state["sensors"]
     for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe",
-                "novelty_neighbours", "novelty_archive_growth"):
+                "novelty_neighbours", "novelty_archive_growth", "success_credit"):
         del state["config"][key]
     del state["config"]["evolution"]["mutation"]["recurrent_rate"]
     checkpoint.write_text(json.dumps(state))
@@ -139,7 +139,8 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     assert without_seconds(history_rows(tmp_path)) == without_seconds(history_rows(dual_run))
 
 
-@pytest.mark.parametrize("extra", [{}, {"goal_distance": "geodesic", "turn_commitment": True}])
+@pytest.mark.parametrize("extra", [{}, {"goal_distance": "geodesic", "turn_commitment": True},
+                                   {"success_credit": "path"}])
 def test_pool_backend_is_bit_identical_to_in_process(extra: dict[str, object]) -> None:
     config = dataclasses.replace(tiny(), **extra) if extra else tiny()
     problem = make_problem(config)
