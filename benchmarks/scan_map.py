@@ -3,7 +3,8 @@ benchmark (``mentor_core.navigation.scan_map``: a plan on that map, unknown spac
 
     .venv/bin/python benchmarks/scan_map.py GENOME [GENOME ...] [--robot ugv]
         [--split validation] [--pairs-per-family 20] [--families F,G] [--baselines vfh,bug]
-        [--resolution M] [--beam-arcs] [--out FILE.json]
+        [--resolution M] [--beam-arcs] [--margin K] [--lookahead K] [--mapped-only]
+        [--out FILE.json]
 
 Per contender (each genome, then each baseline) two runs of every pair with the paper's
 50 s: plain, and steering to the carrot of a plan on its own scan map. Prints success per
@@ -42,6 +43,11 @@ def main() -> None:
     p.add_argument("--resolution", type=float, default=0.1, help="scan map cell (m)")
     p.add_argument("--beam-arcs", action="store_true",
                    help="put a beam's hit on every ray of its cone (ScanMap)")
+    p.add_argument("--margin", type=float,
+                   help="plan's margin past the footprint, in half body diagonals (default 1)")
+    p.add_argument("--lookahead", type=float,
+                   help="carrot's distance along the plan, in goal radii (default 2)")
+    p.add_argument("--mapped-only", action="store_true", help="skip the plain runs")
     p.add_argument("--out", type=Path)
     args = p.parse_args()
     robot = get_profile(args.robot)
@@ -53,7 +59,7 @@ def main() -> None:
     fams = [pair.family for pair in suite.pairs]
     results: dict[str, dict[str, dict[str, float]]] = {}
     for c in contenders:
-        for mode in ("plain", "scan_map"):
+        for mode in ("scan_map",) if args.mapped_only else ("plain", "scan_map"):
             t0 = time.perf_counter()
             reached = np.zeros(len(suite.pairs), dtype=bool)
             plans = 0
@@ -62,7 +68,13 @@ def main() -> None:
                 scenarios = [suite.pairs[i].scenario for i in idx]
                 goals = None
                 if mode == "scan_map":
-                    config = guide_config(c.profile, resolution=args.resolution)
+                    config = guide_config(
+                        c.profile, resolution=args.resolution,
+                        margin=None if args.margin is None
+                        else args.margin * c.profile.half_diagonal,
+                        lookahead=None if args.lookahead is None
+                        else args.lookahead * c.profile.goal_radius,
+                    )  # fmt: skip
                     goals, guides = scan_guided_goals(scenarios, c.profile, config,
                                                       args.beam_arcs)
                 batch = run_episodes(scenarios, c.profile, c.policy(scenarios),
