@@ -131,7 +131,7 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     # written before the sensor record and the newer config keys: resumed as it was meant
     del state["sensors"]
     for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe",
-                "novelty_neighbours", "novelty_archive_growth", "success_credit"):
+                "novelty_neighbours", "novelty_archive_growth", "success_credit", "guide"):
         del state["config"][key]
     del state["config"]["evolution"]["mutation"]["recurrent_rate"]
     checkpoint.write_text(json.dumps(state))
@@ -140,7 +140,7 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
 
 
 @pytest.mark.parametrize("extra", [{}, {"goal_distance": "geodesic", "turn_commitment": True},
-                                   {"success_credit": "path"}])
+                                   {"success_credit": "path"}, {"guide": "waypoint"}])
 def test_pool_backend_is_bit_identical_to_in_process(extra: dict[str, object]) -> None:
     config = dataclasses.replace(tiny(), **extra) if extra else tiny()
     problem = make_problem(config)

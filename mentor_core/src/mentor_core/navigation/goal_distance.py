@@ -54,12 +54,16 @@ class GoalDistance:
         the point sees into its disc, else the first corner of the way round; NaN where the
         distance is ``inf``. A cost-to-go expert's next target from anywhere in the free
         space (``benchmarks/imitation_ceiling.py``)."""
+        return self.distances_and_waypoints(points)[1]
+
+    def distances_and_waypoints(self, points: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """``(m,)`` distances and ``(m, 2)`` waypoints (:meth:`waypoints`) of one search."""
         dist, corner = self._search(points)
         out = np.tile(self.goal, (len(dist), 1))
         via = corner >= 0
         out[via] = self.graph.nodes[corner[via]]
         out[~np.isfinite(dist)] = np.nan
-        return out
+        return dist, out
 
     def _search(self, points: ArrayLike) -> tuple[FloatArray, NDArray[np.int64]]:
         """Distances ``(m,)`` and the first corner of each way (index into the graph's

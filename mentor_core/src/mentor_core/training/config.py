@@ -24,7 +24,7 @@ from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
-from mentor_core.training.problem import GoalDistanceKind, SuccessCredit, TurnFrame
+from mentor_core.training.problem import GoalDistanceKind, Guide, SuccessCredit, TurnFrame
 from mentor_core.validation import (
     Bool,
     Float,
@@ -96,6 +96,12 @@ class TrainerConfig:
     the time budget left (the paper's), or "path", the shortest path's length over the length
     driven (the per-pair term of the benchmark's SPL; not in the paper); see docs/algorithm.md
     "Performance"."""
+    guide: Guide = "none"
+    """The goal the network sees in training: "none", the scenario's goal (the paper's), or
+    "waypoint", the direction of the shortest way at the distance still to go, as a global
+    plan's carrot shows it (mentor_core.navigation.waypoints; not in the paper): planners
+    trained to follow a plan, for a robot with a map (mentor-bench --scan-map, the planner
+    node's global_plan). Training only; see docs/algorithm.md "Performance"."""
     turn_commitment: bool = False
     """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
     not in the paper): an experiment of benchmarks/RESULTS.md, applied in training only."""

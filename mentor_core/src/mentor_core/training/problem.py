@@ -18,6 +18,10 @@ share the call, so any split of the population over workers gives bit-identical 
 ``evaluate(genomes, gains="best")`` computes G only for the genome of the highest F in the
 call (the first of equals), NaN for the others: for generations that rank F alone (the second
 stage of the dual framework, the single framework), where G would only fill the history.
+
+With ``guide="waypoint"`` (not in the paper) every network sees, instead of its scenario's
+goal, the direction of the shortest way round the obstacles at the distance still to go
+(``navigation.waypoints``): it is trained to follow a global plan. F and G are unchanged.
 """
 
 from __future__ import annotations
@@ -32,7 +36,9 @@ from numpy.typing import NDArray
 from mentor_core.evolution.batch_network import BatchNetwork
 from mentor_core.evolution.genome import Genome
 from mentor_core.navigation.goal_distance import GoalDistance
+from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.shortest_path import VisibilityGraph
+from mentor_core.navigation.waypoints import WaypointGoals
 from mentor_core.objectives.experience import experience_gains
 from mentor_core.objectives.performance import (
     credited_performance,
@@ -49,6 +55,7 @@ OBJECTIVE_NAMES = ("performance", "experience_gain")
 GoalDistanceKind = Literal["euclidean", "geodesic"]
 TurnFrame = Literal["body", "goal"]
 SuccessCredit = Literal["time", "path"]
+Guide = Literal["none", "waypoint"]
 #: which genomes of an ``evaluate`` call get their G: all, or the one of the highest F
 GainScope = Literal["all", "best"]
 # the geodesic S_f's footprint: a little inside the body's inscribed disc, so that a robot
@@ -94,6 +101,9 @@ class NavigationProblem:
     body's circumscribed disc into the goal radius, as the benchmark's SPL measures it) over
     the length driven, instead of ``T_rem / T_tot`` (not in the paper); where that disc has
     no path, the straight distance into the goal radius stands in for it.
+    ``guide="waypoint"``: the networks see the shortest way's direction instead of the goal
+    (module docstring), the way of the robot's default global plan
+    (:func:`~mentor_core.navigation.guide.guide_config`).
     """
 
     def __init__(
@@ -107,6 +117,7 @@ class NavigationProblem:
         turn_commitment: bool = False,
         turn_frame: TurnFrame = "body",
         success_credit: SuccessCredit = "time",
+        guide: Guide = "none",
     ) -> None:
         if not scenarios:
             raise ValueError("a NavigationProblem needs at least one scenario")
@@ -114,6 +125,8 @@ class NavigationProblem:
             raise ValueError(f"goal_distance must be euclidean or geodesic, not {goal_distance!r}")
         if success_credit not in ("time", "path"):
             raise ValueError(f"success_credit must be time or path, not {success_credit!r}")
+        if guide not in ("none", "waypoint"):
+            raise ValueError(f"guide must be none or waypoint, not {guide!r}")
         if turn_frame not in ("body", "goal"):
             raise ValueError(f"turn_frame must be body or goal, not {turn_frame!r}")
         if turn_frame == "goal" and profile.input_encoding != "egocentric":
@@ -127,6 +140,12 @@ class NavigationProblem:
         self.turn_commitment = turn_commitment
         self.turn_frame = turn_frame
         self.success_credit = success_credit
+        self.guide = guide
+        # the goals the networks see, per robot of a simulate call; None: the scenarios'
+        self._input_goals = (
+            WaypointGoals(self.scenarios, guide_config(profile), profile.goal_radius)
+            if guide == "waypoint" else None
+        )  # fmt: skip
         # the shortest paths' lengths (m) for the path credit, computed once
         self._shortest = (
             _shortest_lengths(self.scenarios, profile) if success_credit == "path" else None
@@ -178,7 +197,7 @@ class NavigationProblem:
 
         return run_episodes(
             list(self.scenarios) * len(genomes), self.profile, policy,
-            time_budgets=self.time_budget,
+            time_budgets=self.time_budget, input_goals=self._input_goals,
         )  # fmt: skip
 
     def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:

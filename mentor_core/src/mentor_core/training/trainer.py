@@ -58,6 +58,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
+    "guide": "none",
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -137,7 +138,7 @@ def make_problem(
     return NavigationProblem(
         prof, scenarios, time_budget=config.time_budget, goal_distance=config.goal_distance,
         turn_commitment=config.turn_commitment, turn_frame=config.turn_frame,
-        success_credit=config.success_credit,
+        success_credit=config.success_credit, guide=config.guide,
     )
 
 
