@@ -46,6 +46,7 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         "clearance_margin": profile.clearance_margin,
         "feedback_action": profile.feedback_action,
         "memory_units": profile.memory_units,
+        **({} if profile.rotation_shim is None else {"rotation_shim": profile.rotation_shim}),
     }
 
 

@@ -67,6 +67,7 @@ from mentor_core.sim.robots import (
     sensor_record,
     with_planner,
 )
+from mentor_core.sim.rotation_shim import rotation_shim
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -80,8 +81,8 @@ def planner_profile(
     """``profile`` as the genome was trained to use it: its metadata's ``input_encoding``
     (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
     ``step_max`` and ``step_min`` (m; each the profile's when absent),
-    ``clearance_margin`` (m; absent: none), ``feedback_action`` and ``memory_units``
-    (absent: off, as every genome saved before they existed).
+    ``clearance_margin`` (m; absent: none), ``feedback_action``, ``memory_units`` and
+    ``rotation_shim`` (rad) (absent: off, as every genome saved before they existed).
 
     ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
     (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
@@ -105,6 +106,7 @@ def planner_profile(
         clearance_margin=metadata.get("clearance_margin"),
         feedback_action=metadata.get("feedback_action"),
         memory_units=metadata.get("memory_units"),
+        rotation_shim=metadata.get("rotation_shim"),
         source=source,
     )
 
@@ -112,9 +114,10 @@ def planner_profile(
 class GenomePlanner:
     """One robot's decisions from an evolved genome, exactly as in training.
 
-    A planner with a context (``profile.n_context``) or a recurrent network is stateful: each
-    decision reads what the previous one output (and its network's previous values), as in
-    an episode of training, until :meth:`reset`.
+    A planner with a context (``profile.n_context``), a recurrent network or a rotation shim
+    (``profile.rotation_shim``) is stateful: each decision reads what the previous one output
+    (its network's previous values, whether it has turned onto its goal yet), as in an
+    episode of training, until :meth:`reset`.
 
     Raises ConfigError when the genome's inputs/outputs do not fit the profile.
     """
@@ -128,12 +131,15 @@ class GenomePlanner:
         self.network = FeedForwardNetwork.from_genome(genome)
         self._context = observation.initial_context(1, profile)
         self._memory = self.network.new_memory(1)
+        self._aligned = np.zeros(1, dtype=np.bool_)
 
     def reset(self) -> None:
         """Start blank: the next decision reads the context of a first decision (a new goal or
-        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory."""
+        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory, and
+        a rotation shim turns onto the goal again."""
         self._context = observation.initial_context(1, self.profile)
         self._memory = self.network.new_memory(1)
+        self._aligned = np.zeros(1, dtype=np.bool_)
 
     @classmethod
     def load(cls, genome_path: str | Path, profile_name: str) -> GenomePlanner:
@@ -162,7 +168,9 @@ class GenomePlanner:
         )
         memory = self._memory.copy()  # kept as it was if the decision fails
         outputs = self.network.activate(inputs, memory)
+        outputs, aligned = rotation_shim(outputs, inputs, self._aligned, self.profile)
         dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
+        self._aligned = aligned
         if self.profile.n_context:
             self._context = observation.next_context(outputs, self.profile)
         self._memory = memory

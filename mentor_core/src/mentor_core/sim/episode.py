@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from mentor_core.sim import observation
 from mentor_core.sim.engine import BatchEngine
 from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.rotation_shim import rotation_shim
 from mentor_core.sim.sensors import Backend
 from mentor_core.sim.world import Scenario, World
 
@@ -264,6 +265,7 @@ def _run_world(
     chunks: list[FloatArray] = []
     owners: list[IntArray] = []
     zeros = np.zeros(n, dtype=np.float64)
+    aligned = np.zeros(n, dtype=np.bool_)  # the rotation shim's: turned onto the goal yet
 
     while active.any():
         idx = np.flatnonzero(active)
@@ -273,6 +275,8 @@ def _run_world(
         inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile, past)
         outputs = np.asarray(policy(inputs, idx), dtype=np.float64)
         outputs = outputs.reshape(idx.size, profile.n_outputs)
+        if profile.rotation_shim is not None:
+            outputs, aligned[idx] = rotation_shim(outputs, inputs, aligned[idx], profile)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)
         if profile.n_context:
             context[idx] = observation.next_context(outputs, profile)

@@ -94,6 +94,9 @@ class RobotProfile:
         memory_units: extra network outputs fed back as inputs at the next decision, a
             context memory (0 to :data:`MAX_MEMORY_UNITS`; 0 in the paper). A planner's
             setting.
+        rotation_shim: when set, a robot first turns on the spot onto a new goal until its
+            bearing is within this angle, rad (:mod:`mentor_core.sim.rotation_shim`); None:
+            the network drives from the first decision, as in the paper. A planner's setting.
     """
 
     name: str
@@ -119,6 +122,7 @@ class RobotProfile:
     clearance_margin: float | None = None
     feedback_action: bool = False
     memory_units: int = 0
+    rotation_shim: float | None = None
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:
@@ -243,15 +247,17 @@ def with_planner(
     clearance_margin: object = None,
     feedback_action: object = None,
     memory_units: object = None,
+    rotation_shim: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
     ``(0, pi]``), its largest step (m, in ``[profile.step_min, profile.step_max]``), its
     smallest step (m, in ``[0, step_max]``), its clearance margin (m, >= 0; see
     :func:`mentor_core.sim.observation.clearance_limit`), whether it reads its previous action
-    (a bool) and its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
-    :func:`mentor_core.sim.observation.next_context`) replaced where given (None keeps the
-    profile's).
+    (a bool), its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
+    :func:`mentor_core.sim.observation.next_context`) and its rotation shim's threshold (rad,
+    in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`) replaced where given (None keeps
+    the profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
@@ -311,6 +317,10 @@ def with_planner(
                 key="memory_units", path=where,
             )  # fmt: skip
         changes["memory_units"] = memory_units
+    if rotation_shim is not None:
+        changes["rotation_shim"] = _planner_number(
+            rotation_shim, lambda v: 0.0 < v <= math.pi, "(0, pi] rad", "rotation_shim", where
+        )
     return dataclasses.replace(profile, **changes)
 
 

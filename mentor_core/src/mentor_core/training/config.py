@@ -136,6 +136,11 @@ class TrainerConfig:
     back as inputs at the next decision (0 at the first), a context memory NEAT can evolve to
     latch a state, such as the side of a wall it follows (0: none, as in the paper); also
     written into the metadata."""
+    rotation_shim_deg: Annotated[Float, Field(gt=0.0, le=180.0)] | None = None
+    """When set, a robot with a new goal first turns on the spot onto it until the goal's
+    bearing is within this many degrees, then its network drives (Nav2's rotation shim;
+    mentor_core.sim.rotation_shim; null: the network drives from the first decision, as in
+    the paper); also written into the metadata."""
     novelty_neighbours: Annotated[Int, Field(ge=1)] | None = None
     """When set, novelty search's sparseness over this many nearest behaviours (the final
     positions in every training scenario; mentor_core.objectives.novelty) is ranked as a third

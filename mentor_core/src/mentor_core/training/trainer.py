@@ -58,7 +58,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
-    "guide": "none",
+    "guide": "none", "rotation_shim_deg": None,
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -108,8 +108,10 @@ def make_problem(
         clearance_margin=config.clearance_margin,
         feedback_action=config.feedback_action,
         memory_units=config.memory_units,
+        rotation_shim=(None if config.rotation_shim_deg is None
+                       else math.radians(config.rotation_shim_deg)),
         source=source,
-    )
+    )  # fmt: skip
     if config.turn_frame == "goal" and config.input_encoding != "egocentric":
         raise ConfigError(
             "turns relative to the goal need input_encoding: egocentric", key="turn_frame",
@@ -363,6 +365,9 @@ def _write_final_files(
             "clearance_margin": profile.clearance_margin,
             "feedback_action": profile.feedback_action,
             "memory_units": profile.memory_units,
+            # only when set, so that a genome without it is written as before
+            **({} if profile.rotation_shim is None
+               else {"rotation_shim": profile.rotation_shim}),
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,
