@@ -88,3 +88,19 @@ def test_guided_training_sees_the_way_and_scores_the_goal() -> None:
         NavigationProblem(profile, walled, guide="map")  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="guide"):
         TrainerConfig.from_dict({"robot": "ugv", "guide": "map"})
+
+
+def test_a_share_of_the_scenarios_is_guided() -> None:
+    behind = Scenario(WALL, (2.0, 4.0, 0.0), (8.0, 4.0))
+    aims = WaypointGoals([behind, behind], CONFIG, 1.0, guided=[False, True])
+    shown = aims(np.array([[2.0, 4.0, 0.0]] * 4), np.array([0, 1, 2, 3]))
+    assert np.array_equal(shown[[0, 2]], [[8.0, 4.0]] * 2)  # scenario 0: its goal
+    assert not np.allclose(shown[[1, 3]], [8.0, 4.0])  # scenario 1: the way round
+    with pytest.raises(ValueError, match="flags"):
+        WaypointGoals([behind], CONFIG, 1.0, guided=[True, False])
+    config = dataclasses.replace(TrainerConfig(robot="ugv"), guide="waypoint", guide_share=0.5)
+    problem = make_problem(config)
+    assert problem._input_goals is not None
+    assert problem._input_goals._guided == [i % 2 == 1 for i in range(len(problem.scenarios))]
+    with pytest.raises(ConfigError, match="guide_share"):
+        TrainerConfig.from_dict({"robot": "ugv", "guide_share": 0})

@@ -42,14 +42,19 @@ class WaypointGoals:
     ``scenarios[i % len(scenarios)]`` is shown the way into the disc of ``goal_radius`` (m)
     about its goal (module docstring). Robots are indexed as
     :meth:`mentor_core.training.problem.NavigationProblem.simulate` numbers them (genome-major
-    over the scenarios). A class, not a closure, so that a training problem holding it
-    pickles to pool workers."""
+    over the scenarios). ``guided`` (one bool per scenario; default all) names the scenarios
+    shown the way; the robots of the others see their goal. A class, not a closure, so that a
+    training problem holding it pickles to pool workers."""
 
     def __init__(
-        self, scenarios: Sequence[Scenario], config: GuideConfig, goal_radius: float
-    ) -> None:
+        self, scenarios: Sequence[Scenario], config: GuideConfig, goal_radius: float,
+        guided: Sequence[bool] | None = None,
+    ) -> None:  # fmt: skip
         if not scenarios:
             raise ValueError("WaypointGoals needs at least one scenario")
+        if guided is not None and len(guided) != len(scenarios):
+            raise ValueError(f"guided has {len(guided)} flags for {len(scenarios)} scenarios")
+        self._guided = [True] * len(scenarios) if guided is None else [bool(g) for g in guided]
         self.goal_radius = float(goal_radius)
         graphs: dict[tuple[int, float], VisibilityGraph] = {}  # per world and disc, built once
         self._ways: list[tuple[GoalDistance, ...]] = []
@@ -68,6 +73,8 @@ class WaypointGoals:
         which = np.asarray(robots, dtype=np.int64) % len(self._ways)
         out = self._goals[which]
         for s in np.unique(which).tolist():
+            if not self._guided[s]:
+                continue
             rows = np.flatnonzero(which == s)
             out[rows] = _aims(here[rows], self._ways[s], self.goal_radius, out[rows])
         return out

@@ -102,6 +102,9 @@ class TrainerConfig:
     plan's carrot shows it (mentor_core.navigation.waypoints; not in the paper): planners
     trained to follow a plan, for a robot with a map (mentor-bench --scan-map, the planner
     node's global_plan). Training only; see docs/algorithm.md "Performance"."""
+    guide_share: Annotated[Float, Field(gt=0.0, le=1.0)] = 1.0
+    """The share of the training scenarios whose networks are shown the way under guide:
+    waypoint (evenly spread over them); the others see their goal."""
     turn_commitment: bool = False
     """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
     not in the paper): an experiment of benchmarks/RESULTS.md, applied in training only."""

@@ -103,7 +103,8 @@ class NavigationProblem:
     no path, the straight distance into the goal radius stands in for it.
     ``guide="waypoint"``: the networks see the shortest way's direction instead of the goal
     (module docstring), the way of the robot's default global plan
-    (:func:`~mentor_core.navigation.guide.guide_config`).
+    (:func:`~mentor_core.navigation.guide.guide_config`), in the share ``guide_share`` of
+    the scenarios (evenly spread; the others show the goal).
     """
 
     def __init__(
@@ -118,6 +119,7 @@ class NavigationProblem:
         turn_frame: TurnFrame = "body",
         success_credit: SuccessCredit = "time",
         guide: Guide = "none",
+        guide_share: float = 1.0,
     ) -> None:
         if not scenarios:
             raise ValueError("a NavigationProblem needs at least one scenario")
@@ -127,6 +129,8 @@ class NavigationProblem:
             raise ValueError(f"success_credit must be time or path, not {success_credit!r}")
         if guide not in ("none", "waypoint"):
             raise ValueError(f"guide must be none or waypoint, not {guide!r}")
+        if not 0.0 < guide_share <= 1.0:
+            raise ValueError(f"guide_share must be in (0, 1], got {guide_share}")
         if turn_frame not in ("body", "goal"):
             raise ValueError(f"turn_frame must be body or goal, not {turn_frame!r}")
         if turn_frame == "goal" and profile.input_encoding != "egocentric":
@@ -141,9 +145,13 @@ class NavigationProblem:
         self.turn_frame = turn_frame
         self.success_credit = success_credit
         self.guide = guide
-        # the goals the networks see, per robot of a simulate call; None: the scenarios'
+        # the goals the networks see, per robot of a simulate call; None: the scenarios'.
+        # Scenario s is guided when floor((s + 1) share) > floor(s share): evenly spread
+        n = len(self.scenarios)
+        guided = np.floor(np.arange(1, n + 1) * guide_share) > np.floor(np.arange(n) * guide_share)
         self._input_goals = (
-            WaypointGoals(self.scenarios, guide_config(profile), profile.goal_radius)
+            WaypointGoals(self.scenarios, guide_config(profile), profile.goal_radius,
+                          guided.tolist())
             if guide == "waypoint" else None
         )  # fmt: skip
         # the shortest paths' lengths (m) for the path credit, computed once

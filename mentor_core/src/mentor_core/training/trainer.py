@@ -58,7 +58,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
-    "guide": "none", "rotation_shim_deg": None,
+    "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None,
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -141,6 +141,7 @@ def make_problem(
         prof, scenarios, time_budget=config.time_budget, goal_distance=config.goal_distance,
         turn_commitment=config.turn_commitment, turn_frame=config.turn_frame,
         success_credit=config.success_credit, guide=config.guide,
+        guide_share=config.guide_share,
     )
 
 
