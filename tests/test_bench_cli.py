@@ -5,8 +5,11 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
 
 from mentor_core.benchmark.document import load_bench
@@ -138,3 +141,30 @@ def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -
     # the same planner, steered elsewhere: its trajectories differ
     assert any(a["trajectory"] != b["trajectory"]
                for a, b in zip(plain["results"], mapped["results"], strict=True))  # fmt: skip
+
+
+def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "shim"
+    code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
+                       "doe", "--pairs-per-family", "5", "--baselines", "vfh", "--no-oracle",
+                       "--rotation-shim", "45", "--out", str(out)])  # fmt: skip
+    assert code == 0
+    doc = load_bench(out / "bench.json")
+    assert [c["name"] for c in doc["contenders"]] == ["ref-s1", "shim-ref-s1", "vfh"]
+    plain, shim = doc["contenders"][0], doc["contenders"][1]
+    assert shim["settings"]["rotation_shim"] == pytest.approx(math.pi / 4)
+    assert "rotation_shim" not in plain["settings"]
+    smallest = shim["settings"]["step_min"]
+
+    def first_step(result: dict[str, Any]) -> float:
+        path = np.asarray(result["trajectory"], dtype=np.float64)
+        return float(np.hypot(*(path[1, :2] - path[0, :2])))
+
+    # a start facing away from the goal: the shimmed genome turns on the spot first
+    turned = [first_step(b) <= smallest + 1e-9 < first_step(a)
+              for a, b in zip(plain["results"], shim["results"], strict=True)]  # fmt: skip
+    assert any(turned)
+    assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--rotation-shim", "0"]) == 2
+    assert "--rotation-shim" in capsys.readouterr().err

@@ -1,5 +1,5 @@
-"""mentor-eval --global-plan (each genome also along a global plan, beside its plain run) and
---map (the world from a ROS map), and their bad input."""
+"""mentor-eval --global-plan (each genome also along a global plan, beside its plain run),
+--map (the world from a ROS map), --rotation-shim, and their bad input."""
 
 from __future__ import annotations
 
@@ -63,6 +63,7 @@ def test_a_world_from_a_ros_map(tmp_path: Path, capsys: pytest.CaptureFixture[st
         (["--robot", "ugv", "--world", "{tmp}/w.yaml", "--seed", "3"], "not with --bag"),
         (["--robot", "ugv"], "give --bag, --world, --map or --seed"),
         (["--robot", "ugv", "--seed", "1", "--lookahead", "-1"], "--lookahead must be"),
+        (["--robot", "ugv", "--seed", "1", "--rotation-shim", "0"], "--rotation-shim must be"),
     ],
 )
 def test_bad_arguments_and_map_files_exit_2_with_one_line(
@@ -74,3 +75,19 @@ def test_bad_arguments_and_map_files_exit_2_with_one_line(
     assert mentor_eval(argv) == 2
     err = capsys.readouterr().err.strip()
     assert fault in err and len(err.splitlines()) == 1
+
+
+def test_behind_a_rotation_shim_a_robot_facing_away_turns_first(tmp_path: Path) -> None:
+    empty = World(12.0, np.zeros((0, 4)), name="empty")
+    world_file = tmp_path / "empty.yaml"
+    save_world(world_file, empty, [Scenario(empty, (4.0, 6.0, np.pi), (10.0, 6.0))])
+    runs = {}
+    for extra in ([], ["--rotation-shim", "45"]):
+        out = tmp_path / f"eval{len(extra)}.json"
+        assert mentor_eval([str(UGV_GENOME), "--robot", "ugv", "--world", str(world_file),
+                            "--out", str(out), *extra]) == 0  # fmt: skip
+        runs[len(extra)] = json.loads(out.read_text())["runs"][0]["results"][0]["trajectory"]
+    plain, shim = np.asarray(runs[0]), np.asarray(runs[2])
+    # the goal straight behind: the shimmed robot turns on the spot (its smallest step, 0.1 m)
+    assert np.hypot(*(shim[1, :2] - shim[0, :2])) <= 0.1 + 1e-9
+    assert not np.allclose(plain[1], shim[1])

@@ -21,7 +21,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from visualization_msgs.msg import MarkerArray
 
-from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.errors import ConfigError, FileFormatError, MentorError
 from mentor_core.files.genome_file import save_genome
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.wiring import Wiring, wire_pose
@@ -352,3 +352,28 @@ def test_the_goal_radius_changes_at_run_time_and_a_reached_goal_stops_the_robot(
     assert graph.spin_until(lambda: planner.gate.goal is not None)
     got = _answered(graph, robot, planner, 0, [0.3] * 3, (1.0, 1.0, 0.0))  # 0.71 m away
     assert got == Twist() and planner.goals_reached == 1 and planner.gate.goal is None
+
+
+def test_behind_a_rotation_shim_the_node_turns_onto_a_goal_behind_it_first(
+    graph: Graph,
+) -> None:
+    planner = _planner(graph, rotation_shim_deg=45.0)
+    assert planner.planner is not None
+    assert planner.planner.profile.rotation_shim == pytest.approx(math.pi / 4)
+    robot = Robot(graph)
+    reference = GenomePlanner.load(GENOME, "swarm", math.pi / 4)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
+    pose = (2.0, 1.0, 0.0)  # the goal straight behind
+    assert graph.spin_until(lambda: robot.observe(10**9, [0.5, 0.5, 0.5], pose)
+                            or len(robot.commands) > 0)  # fmt: skip
+    got = robot.commands[0]
+    assert (got.linear.x, got.angular.z) == reference.command([0.5, 0.5, 0.5], pose, (1.0, 1.0))
+    # a turn on the spot onto the goal (this genome may turn a half turn a decision)
+    limit = planner.planner.profile.heading_change_max
+    assert got.linear.x == pytest.approx(SWARM.step_min / SWARM.control_period)
+    assert abs(got.angular.z) == pytest.approx(min(math.pi, limit) / SWARM.control_period)
+
+
+def test_a_rotation_shim_beyond_a_half_turn_is_refused(graph: Graph) -> None:
+    with pytest.raises(MentorError, match="rotation_shim_deg"):
+        _planner(graph, rotation_shim_deg=270.0)

@@ -49,6 +49,7 @@ class PlannerParameters:
     map_frame: str
     goal_pose_topic: str
     use_tf: bool
+    rotation_shim_deg: float = 0.0
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
@@ -110,6 +111,13 @@ def _declarations() -> list[tuple[str, Any, Any]]:
         ("map_frame", MAP_FRAME, _descriptor("the map's frame (goals without a frame)")),
         ("goal_pose_topic", "/goal_pose", _descriptor("goals of RViz/Foxglove ('' : none)")),
         ("use_tf", True, _descriptor("take frames from /tf where tf2_ros is installed")),
+        (
+            "rotation_shim_deg",
+            0.0,
+            _descriptor("deg: turn on the spot onto a new goal until it lies within this "
+                        "angle, then let the network drive (0: as the genome's metadata)",
+                        low=0.0),
+        ),
     ]
 
 
@@ -130,6 +138,9 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
         raise PlannerSetupError(
             f"stale_timeout: {stale} s must exceed the control period {period} s"
         )
+    shim = float(values["rotation_shim_deg"])
+    if not 0.0 <= shim <= 180.0:
+        raise PlannerSetupError(f"rotation_shim_deg: {shim} is not in [0, 180] deg")
     kind = str(values["scan_kind"])
     if kind not in SCAN_KINDS:
         raise PlannerSetupError(f"scan_kind: {kind!r} is not one of {', '.join(SCAN_KINDS)}")
@@ -148,6 +159,7 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
         map_frame=str(values["map_frame"]) or MAP_FRAME,
         goal_pose_topic=str(values["goal_pose_topic"]),
         use_tf=bool(values["use_tf"]),
+        rotation_shim_deg=shim,
     )
 
 

@@ -23,6 +23,7 @@ map (:mod:`.global_plan`).
 
 from __future__ import annotations
 
+import math
 import sys
 from typing import Any
 
@@ -115,7 +116,8 @@ class PlannerNode(Node):
         self.profile = p.profile
         self.control_period = p.control_period
         self.goal_radius = p.goal_radius
-        self.planner = GenomePlanner.load(p.genome, self.profile.name) if p.genome else None
+        shim = math.radians(p.rotation_shim_deg) if p.rotation_shim_deg > 0.0 else None
+        self.planner = GenomePlanner.load(p.genome, self.profile.name, shim) if p.genome else None
         self.gate = DecisionGate(p.stale_timeout, p.sync_tolerance)
         self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
         self.arena: Bounds | None = None

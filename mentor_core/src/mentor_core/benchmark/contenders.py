@@ -10,6 +10,7 @@ its sensors read), instead of the scenario's goal.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,7 +30,7 @@ from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.scan_map import scan_guided_goals
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.episode import InputGoals, Policy
-from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.robots import RobotProfile, with_planner
 from mentor_core.sim.world import Scenario
 from mentor_core.training.assessment import check_compatible
 
@@ -38,6 +39,8 @@ PolicyMaker = Callable[[Sequence[Scenario], RobotProfile], Policy]
 GoalsMaker = Callable[[Sequence[Scenario], RobotProfile], InputGoals]
 #: prefix of the name of a contender on its scan map (the ``-s<seed>`` suffix stays last)
 MAPPED = "mapped-"
+#: prefix of the name of an evolved contender behind a rotation shim
+SHIMMED = "shim-"
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
@@ -82,6 +85,15 @@ def on_scan_map(contender: Contender) -> Contender:
 
     return Contender(MAPPED + contender.name, contender.kind, contender.profile,
                      contender.make_policy, contender.source, make)  # fmt: skip
+
+
+def behind_rotation_shim(contender: Contender, threshold: float) -> Contender:
+    """``contender`` (an evolved planner) turning on the spot onto each new goal until its
+    bearing is within ``threshold`` (rad), then driving as trained
+    (:mod:`mentor_core.sim.rotation_shim`), named ``shim-<name>``. ConfigError for a
+    threshold outside ``(0, pi]``."""
+    profile = with_planner(contender.profile, rotation_shim=threshold, source="rotation shim")
+    return dataclasses.replace(contender, name=SHIMMED + contender.name, profile=profile)
 
 
 #: the hand-written planners: name -> (kind, policy maker)

@@ -15,6 +15,7 @@ paper's 50 s and under a limit scaled to each pair's shortest path, and with ``-
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -25,6 +26,7 @@ from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.benchmark.contenders import (
     HAND_WRITTEN,
     Contender,
+    behind_rotation_shim,
     evolved,
     hand_written,
     on_scan_map,
@@ -54,6 +56,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scan-map", action="store_true",
                    help="also run each planner but the oracle steering to a plan on the map of "
                         "what its own sensors read, as mapped-<label> (an experiment)")
+    p.add_argument("--rotation-shim", type=float, metavar="DEG",
+                   help="also run each genome behind a rotation shim of this threshold "
+                        "(degrees; Nav2's default 45), as shim-<label>")  # fmt: skip
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     return p
@@ -69,6 +74,10 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         raise MentorError("two planners have the same label; give --label")
     chosen: list[Contender] = [evolved(path, robot, label)
                                for label, path in zip(labels, args.genomes, strict=True)]
+    if args.rotation_shim is not None:
+        if not 0.0 < args.rotation_shim <= 180.0:
+            raise MentorError(f"--rotation-shim must be in (0, 180] deg, got {args.rotation_shim}")
+        chosen += [behind_rotation_shim(c, math.radians(args.rotation_shim)) for c in chosen]
     names = [] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]
     for name in names:
         if name not in HAND_WRITTEN or HAND_WRITTEN[name][0] != "baseline":

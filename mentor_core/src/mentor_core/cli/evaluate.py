@@ -6,6 +6,7 @@
     mentor-eval a.json --bag bags/unseen/swarm --record out/episodes   # + an episode bag
     mentor-eval a.json --robot ugv --map office.yaml --seed 3     # pairs sampled on a ROS map
     mentor-eval a.json --bag bags/unseen/ugv --global-plan        # + along a global plan
+    mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
 table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
@@ -15,6 +16,8 @@ ROS map (``map_server`` YAML + PGM; ``--n`` start/goal pairs sampled with ``--se
 default). ``--global-plan`` runs every genome a second time, labelled ``<label> +global-plan``,
 its network steered towards a point ``--lookahead`` m along a shortest path planned on the
 world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run beside it.
+``--rotation-shim`` runs the genomes behind a rotation shim
+(:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does.
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -45,7 +48,7 @@ from mentor_core.runtime.guided_planner import GuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
-from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
 from mentor_core.sim.scenarios import sample_scenarios, sample_world, start_overlap
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.assessment import TEST_TIME_LIMIT, Assessment, assess
@@ -235,6 +238,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="m along the global path the network steers to (default: 2 goal radii)",
     )
     p.add_argument(
+        "--rotation-shim",
+        type=float,
+        metavar="DEG",
+        help="run the genomes behind a rotation shim: turn on the spot onto each goal until "
+        "it lies within DEG degrees, then the network drives (Nav2's default: 45)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
     )
     return p
@@ -280,6 +290,9 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
+    if args.rotation_shim is not None and not 0.0 < args.rotation_shim <= 180.0:
+        return fail("mentor-eval", f"--rotation-shim must be in (0, 180] deg, got "
+                    f"{args.rotation_shim}")  # fmt: skip
     try:
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
@@ -290,6 +303,9 @@ def main(argv: list[str] | None = None) -> int:
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
+            if args.rotation_shim is not None:
+                shim = math.radians(args.rotation_shim)
+                planner = with_planner(planner, rotation_shim=shim, source=path)
             guide = guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]
             for guided in (False, True) if args.global_plan else (False,):

@@ -142,14 +142,21 @@ class GenomePlanner:
         self._aligned = np.zeros(1, dtype=np.bool_)
 
     @classmethod
-    def load(cls, genome_path: str | Path, profile_name: str) -> GenomePlanner:
-        """Planner of a genome JSON file for a named profile.
+    def load(
+        cls, genome_path: str | Path, profile_name: str, rotation_shim: float | None = None
+    ) -> GenomePlanner:
+        """Planner of a genome JSON file for a named profile; ``rotation_shim`` (rad), when
+        given, puts it behind a rotation shim of that threshold whatever its metadata says
+        (:mod:`mentor_core.sim.rotation_shim`).
 
         FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
-        that does not fit it); both one line naming the file or key and the fault.
+        that does not fit it, a threshold outside (0, pi]); both one line naming the file or
+        key and the fault.
         """
         genome, metadata = load_genome_and_metadata(genome_path)
         profile = planner_profile(get_profile(profile_name), metadata, genome_path)
+        if rotation_shim is not None:
+            profile = with_planner(profile, rotation_shim=rotation_shim, source=genome_path)
         return cls(genome, profile, source=str(genome_path))
 
     def decide(
