@@ -65,18 +65,6 @@ class GoalDistance:
         out[~np.isfinite(dist)] = np.nan
         return dist, out
 
-    @property
-    def via(self) -> FloatArray:
-        """``(k,)`` shortest distances (m) from each of the graph's corners into the disc,
-        ``L(v)`` of the module docstring (``inf`` where cut off)."""
-        return self._via
-
-    def first_corners(self, points: ArrayLike) -> NDArray[np.int64]:
-        """``(m,)`` the index (into the graph's nodes) of the first corner of each point's
-        shortest way; -1 where the point sees into the disc, -2 where it has no way."""
-        dist, corner = self._search(points)
-        return np.where(np.isfinite(dist), corner, -2)
-
     def _search(self, points: ArrayLike) -> tuple[FloatArray, NDArray[np.int64]]:
         """Distances ``(m,)`` and the first corner of each way (index into the graph's
         nodes; -1 straight into the disc or no way)."""
