@@ -101,6 +101,6 @@ def test_a_share_of_the_scenarios_is_guided() -> None:
     config = dataclasses.replace(TrainerConfig(robot="ugv"), guide="waypoint", guide_share=0.5)
     problem = make_problem(config)
     assert problem._input_goals is not None
-    assert problem._input_goals._guided == [i % 2 == 1 for i in range(len(problem.scenarios))]
+    assert problem._input_goals.guided == [i % 2 == 1 for i in range(len(problem.scenarios))]
     with pytest.raises(ConfigError, match="guide_share"):
         TrainerConfig.from_dict({"robot": "ugv", "guide_share": 0})

@@ -12,6 +12,8 @@ import math
 import sys
 from typing import NoReturn
 
+from mentor_core.errors import MentorError
+
 
 class Parser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are one line on stderr and exit status 2."""
@@ -46,6 +48,16 @@ def duration(text: str) -> float:
     if not (math.isfinite(value) and value > 0.0):
         raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {text!r}")
     return value
+
+
+def rotation_shim_threshold(degrees: float | None) -> float | None:
+    """``--rotation-shim DEG`` as the profile's threshold (rad; None when not given);
+    MentorError unless DEG lies in (0, 180]."""
+    if degrees is None:
+        return None
+    if not 0.0 < degrees <= 180.0:
+        raise MentorError(f"--rotation-shim must be in (0, 180] deg, got {degrees}")
+    return math.radians(degrees)
 
 
 def _whole(text: str, least: int, expected: str) -> int:

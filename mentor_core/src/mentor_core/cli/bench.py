@@ -15,7 +15,6 @@ paper's 50 s and under a limit scaled to each pair's shortest path, and with ``-
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 from pathlib import Path
@@ -34,6 +33,7 @@ from mentor_core.benchmark.contenders import (
 from mentor_core.benchmark.document import bench_document
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile
+from mentor_core.cli.arguments import rotation_shim_threshold
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.sim.families import FAMILIES
@@ -74,10 +74,9 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         raise MentorError("two planners have the same label; give --label")
     chosen: list[Contender] = [evolved(path, robot, label)
                                for label, path in zip(labels, args.genomes, strict=True)]
-    if args.rotation_shim is not None:
-        if not 0.0 < args.rotation_shim <= 180.0:
-            raise MentorError(f"--rotation-shim must be in (0, 180] deg, got {args.rotation_shim}")
-        chosen += [behind_rotation_shim(c, math.radians(args.rotation_shim)) for c in chosen]
+    shim = rotation_shim_threshold(args.rotation_shim)
+    if shim is not None:
+        chosen += [behind_rotation_shim(c, shim) for c in chosen]
     names = [] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]
     for name in names:
         if name not in HAND_WRITTEN or HAND_WRITTEN[name][0] != "baseline":

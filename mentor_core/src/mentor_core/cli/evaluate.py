@@ -36,7 +36,14 @@ from typing import Any
 import numpy as np
 
 from mentor_core.atomic import write_json_atomic
-from mentor_core.cli.arguments import Parser, count, duration, fail, seed
+from mentor_core.cli.arguments import (
+    Parser,
+    count,
+    duration,
+    fail,
+    rotation_shim_threshold,
+    seed,
+)
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
 from mentor_core.errors import FileFormatError, MentorError
 from mentor_core.files.bags import read_scenario_bag
@@ -290,10 +297,8 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
-    if args.rotation_shim is not None and not 0.0 < args.rotation_shim <= 180.0:
-        return fail("mentor-eval", f"--rotation-shim must be in (0, 180] deg, got "
-                    f"{args.rotation_shim}")  # fmt: skip
     try:
+        shim = rotation_shim_threshold(args.rotation_shim)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
         numbers, skipped = runnable(profile, world, scenarios, source)
@@ -303,8 +308,7 @@ def main(argv: list[str] | None = None) -> int:
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
-            if args.rotation_shim is not None:
-                shim = math.radians(args.rotation_shim)
+            if shim is not None:
                 planner = with_planner(planner, rotation_shim=shim, source=path)
             guide = guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]

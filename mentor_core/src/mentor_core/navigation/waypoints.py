@@ -54,11 +54,16 @@ class WaypointGoals:
             raise ValueError("WaypointGoals needs at least one scenario")
         if guided is not None and len(guided) != len(scenarios):
             raise ValueError(f"guided has {len(guided)} flags for {len(scenarios)} scenarios")
-        self._guided = [True] * len(scenarios) if guided is None else [bool(g) for g in guided]
+        flags = [True] * len(scenarios) if guided is None else [bool(g) for g in guided]
         self.goal_radius = float(goal_radius)
         graphs: dict[tuple[int, float], VisibilityGraph] = {}  # per world and disc, built once
-        self._ways: list[tuple[GoalDistance, ...]] = []
-        for sc in scenarios:
+        # per scenario its ways (the planner's disc's, then the body's); None: it shows its
+        # goal, and nothing is built for it
+        self._ways: list[tuple[GoalDistance, ...] | None] = []
+        for sc, flag in zip(scenarios, flags, strict=True):
+            if not flag:
+                self._ways.append(None)
+                continue
             pair = []
             for radius in (config.inflation, config.radius):
                 key = (id(sc.world), radius)
@@ -68,15 +73,21 @@ class WaypointGoals:
             self._ways.append(tuple(pair))
         self._goals = np.array([sc.goal[:2] for sc in scenarios], dtype=np.float64)
 
+    @property
+    def guided(self) -> list[bool]:
+        """Per scenario whether its robots are shown the way (else their goal)."""
+        return [ways is not None for ways in self._ways]
+
     def __call__(self, poses: FloatArray, robots: IntArray) -> FloatArray:
         here = np.asarray(poses, dtype=np.float64)[:, :2]
         which = np.asarray(robots, dtype=np.int64) % len(self._ways)
         out = self._goals[which]
         for s in np.unique(which).tolist():
-            if not self._guided[s]:
+            ways = self._ways[s]
+            if ways is None:
                 continue
             rows = np.flatnonzero(which == s)
-            out[rows] = _aims(here[rows], self._ways[s], self.goal_radius, out[rows])
+            out[rows] = _aims(here[rows], ways, self.goal_radius, out[rows])
         return out
 
 
