@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from mentor_core.navigation import shortest_path
+from mentor_core.navigation import goal_distance, shortest_path
 from mentor_core.navigation.goal_distance import GoalDistance
 from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.sim.episode import EpisodeBatch
@@ -89,6 +89,38 @@ def test_compiled_visibility_gives_the_numpy_verdicts() -> None:
     compiled = np.empty(len(p), dtype=np.bool_)
     shortest_path._blocked_numba(p, q, boxes, compiled)
     assert (compiled == shortest_path._blocked(p, q, boxes)).all()
+
+
+def _boxes_world(seed: int) -> World:
+    """A 12 m world of 30 boxes on a 0.1 m grid: shared corners, touching and overlapping
+    boxes, points on their edges."""
+    rng = np.random.default_rng(seed)
+    lo = np.round(rng.uniform(0.5, 10.0, (30, 2)), 1)
+    return World(12.0, np.concatenate([lo, lo + np.round(rng.uniform(0.1, 1.5, (30, 2)), 1)], 1))
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.2, 0.35])
+def test_compiled_search_gives_the_numpy_ways(
+    radius: float, monkeypatch: pytest.MonkeyPatch
+) -> None:  # fmt: skip
+    # the compiled search visits the corners in order of their sums and leaves out those
+    # their own box hides: the same distances and first corners, bit for bit
+    if goal_distance._first_corners_numba is None:
+        pytest.skip("numba is not importable")
+    graph = VisibilityGraph(_boxes_world(3), radius)
+    assert graph.hidden.any()
+    rng = np.random.default_rng(4)
+    points = np.round(rng.uniform(0.0, 12.0, (3000, 2)), 1)
+    points[::7] = graph.nodes[rng.integers(0, len(graph.nodes), len(points[::7]))]
+    for goal in ((11.0, 11.0), (1.0, 6.0), (6.0, 0.5)):
+        way = GoalDistance(graph, goal, 0.5)
+        fast = way.distances_and_waypoints(points)
+        with monkeypatch.context() as m:
+            m.setattr(goal_distance, "_first_corners_numba", None)
+            slow = way.distances_and_waypoints(points)
+        assert np.isfinite(fast[0]).sum() > 1000
+        assert np.array_equal(fast[0], slow[0])
+        assert np.array_equal(fast[1], slow[1], equal_nan=True)
 
 
 def _batch(final: np.ndarray, goal: tuple[float, float], reached: bool = False) -> EpisodeBatch:

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError
+from mentor_core.navigation import goal_distance, waypoints
 from mentor_core.navigation.goal_distance import GoalDistance
 from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.shortest_path import VisibilityGraph
@@ -104,3 +105,27 @@ def test_a_share_of_the_scenarios_is_guided() -> None:
     assert problem._input_goals.guided == [i % 2 == 1 for i in range(len(problem.scenarios))]
     with pytest.raises(ConfigError, match="guide_share"):
         TrainerConfig.from_dict({"robot": "ugv", "guide_share": 0})
+
+
+def test_the_compiled_aims_are_numpys(monkeypatch: pytest.MonkeyPatch) -> None:
+    # all robots of a decision in one compiled loop: bit for bit the per-scenario numpy
+    # searches, in a world of many boxes with guided and unguided scenarios
+    if waypoints._aims_numba is None:
+        pytest.skip("numba is not importable")
+    rng = np.random.default_rng(5)
+    lo = np.round(rng.uniform(0.5, 10.0, (25, 2)), 1)
+    world = World(12.0, np.concatenate([lo, lo + np.round(rng.uniform(0.1, 1.5, (25, 2)), 1)], 1))
+    goals = np.round(rng.uniform(0.5, 11.5, (8, 2)), 1)
+    scenarios = [Scenario(world, (0.3, 0.3, 0.0), tuple(g)) for g in goals]
+    aims = WaypointGoals(scenarios, CONFIG, 0.5, guided=[True, False] * 4)
+    poses = np.column_stack([np.round(rng.uniform(0.0, 12.0, (4000, 2)), 1),
+                             rng.uniform(-3.0, 3.0, 4000)])  # fmt: skip
+    robots = rng.integers(0, 100, 4000)
+    fast = aims(poses, robots)
+    with monkeypatch.context() as m:
+        m.setattr(waypoints, "_aims_numba", None)
+        m.setattr(goal_distance, "_first_corners_numba", None)
+        slow = aims(poses, robots)
+    bent = np.any(slow != goals[robots % 8], axis=1)
+    assert bent.sum() > 500  # many robots are shown a way round, not their goal
+    assert np.array_equal(fast, slow)

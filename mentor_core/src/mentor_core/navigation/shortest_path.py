@@ -68,10 +68,15 @@ class VisibilityGraph:
         b = np.asarray(world.obstacles, dtype=np.float64).reshape(-1, 4)
         grown = b + np.array([-radius, -radius, radius, radius])
         self.boxes: FloatArray = grown
+        # what the tests compare with: the grown boxes' open interiors less EPSILON, and the
+        # arena's free square widened by it
+        self.shrunk: FloatArray = grown + np.array([EPSILON, EPSILON, -EPSILON, -EPSILON])
+        self.bounds = (self.radius - EPSILON, world.size - self.radius + EPSILON)
         corners = np.concatenate([grown[:, [0, 1]], grown[:, [2, 1]],
                                   grown[:, [2, 3]], grown[:, [0, 3]]])  # fmt: skip
         corners = np.unique(corners, axis=0) if len(corners) else corners.reshape(0, 2)
         self.nodes: FloatArray = corners[self.free(corners)]
+        self.hidden = _hiding_quadrants(self.nodes, grown)
         n = len(self.nodes)
         ii, jj = np.triu_indices(n, k=1)
         ok = self.visible(self.nodes[ii], self.nodes[jj])
@@ -96,14 +101,14 @@ class VisibilityGraph:
         """(n,) True where a point lies in the free configuration space: inside
         ``[r, size - r]^2`` and not inside a grown box (its boundary is free)."""
         p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        lo, hi = self.radius - EPSILON, self.world.size - self.radius + EPSILON
+        lo, hi = self.bounds
         inside_arena = np.asarray(np.all((p >= lo) & (p <= hi), axis=1), dtype=np.bool_)
         if not len(self.boxes):
             return inside_arena
-        b = self.boxes
+        b = self.shrunk
         x, y = p[:, 0:1], p[:, 1:2]
-        inside = ((b[None, :, 0] + EPSILON < x) & (x < b[None, :, 2] - EPSILON)
-                  & (b[None, :, 1] + EPSILON < y) & (y < b[None, :, 3] - EPSILON))  # fmt: skip
+        inside = ((b[None, :, 0] < x) & (x < b[None, :, 2])
+                  & (b[None, :, 1] < y) & (y < b[None, :, 3]))  # fmt: skip
         return np.asarray(inside_arena & ~inside.any(axis=1), dtype=np.bool_)
 
     def visible(self, a: ArrayLike, b: ArrayLike) -> BoolArray:
@@ -119,7 +124,7 @@ class VisibilityGraph:
         out = np.ones(len(p), dtype=np.bool_)
         if not len(self.boxes) or not len(p):
             return out
-        shrunk = self.boxes + np.array([EPSILON, EPSILON, -EPSILON, -EPSILON])
+        shrunk = self.shrunk
         if _blocked_numba is not None:
             blocked = np.empty(len(p), dtype=np.bool_)
             _blocked_numba(np.ascontiguousarray(p), np.ascontiguousarray(q), shrunk, blocked)
@@ -217,6 +222,27 @@ class VisibilityGraph:
         return np.where(seen, d, np.inf)
 
 
+HIDING_MARGIN = 1e-6  # m; a point this far inside a corner's box quadrant cannot see it
+
+
+def _hiding_quadrants(nodes: FloatArray, boxes: FloatArray) -> BoolArray:
+    """(n, 4) per corner whether one of the grown ``boxes`` whose corner it is fills the
+    quadrant about it numbered ``2 (x > corner) + (y > corner)``. A point more than
+    ``HIDING_MARGIN`` inside such a quadrant (on both axes) cannot see the corner: the segment
+    reaches it through the box's interior, deeper than ``EPSILON`` by a margin that rounding
+    cannot close (boxes thinner than ``HIDING_MARGIN`` fill none)."""
+    out = np.zeros((len(nodes), 4), dtype=np.bool_)
+    at = {(float(x), float(y)): i for i, (x, y) in enumerate(nodes.tolist())}
+    for x0, y0, x1, y1 in boxes.tolist():
+        if x1 - x0 <= HIDING_MARGIN or y1 - y0 <= HIDING_MARGIN:
+            continue
+        for x, y, quadrant in ((x0, y0, 3), (x1, y0, 1), (x1, y1, 0), (x0, y1, 2)):
+            i = at.get((x, y))
+            if i is not None:
+                out[i, quadrant] = True
+    return out
+
+
 def _blocked(p: FloatArray, q: FloatArray, boxes: FloatArray) -> BoolArray:
     """(n,) whether segment ``p[i] -> q[i]`` enters the open interior of any box (k, 4)."""
     d = (q - p)[:, None, :]  # (n, 1, 2)
@@ -236,33 +262,58 @@ def _blocked(p: FloatArray, q: FloatArray, boxes: FloatArray) -> BoolArray:
     return np.asarray((enter < leave).any(axis=1), dtype=np.bool_)
 
 
+def _segment_blocked(px: float, py: float, qx: float, qy: float, boxes: FloatArray) -> bool:
+    """Whether the segment ``(px, py) -> (qx, qy)`` enters the open interior of any box
+    (k, 4): the scalar twin of :func:`_blocked` (compiled by numba), the same arithmetic per
+    box, so the same verdicts."""
+    dx, dy = qx - px, qy - py
+    x0, x1, y0, y1 = min(px, qx), max(px, qx), min(py, qy), max(py, qy)
+    for k in range(boxes.shape[0]):
+        # a box the segment's bounding box does not overlap: Liang-Barsky's own verdict
+        # (rounding is monotone), at the cost of four comparisons
+        if x1 <= boxes[k, 0] or x0 >= boxes[k, 2] or y1 <= boxes[k, 1] or y0 >= boxes[k, 3]:
+            continue
+        enter, leave = 0.0, 1.0
+        for axis in range(2):
+            o = px if axis == 0 else py
+            d = dx if axis == 0 else dy
+            lo, hi = boxes[k, axis], boxes[k, axis + 2]
+            if d != 0.0:
+                ta, tb = (lo - o) / d, (hi - o) / d
+                enter = max(enter, min(ta, tb))
+                leave = min(leave, max(ta, tb))
+            elif not (lo < o < hi):
+                leave = -np.inf  # outside this slab for all t
+        if enter < leave:
+            return True
+    return False
+
+
+def _point_free(px: float, py: float, boxes: FloatArray, lo: float, hi: float) -> bool:
+    """Scalar twin of :meth:`VisibilityGraph.free` for one point (compiled by numba):
+    ``lo``/``hi`` the arena's free bounds and ``boxes`` the grown boxes, both already widened
+    or shrunk by ``EPSILON`` as there."""
+    if not (lo <= px <= hi and lo <= py <= hi):
+        return False
+    for k in range(boxes.shape[0]):
+        if boxes[k, 0] < px < boxes[k, 2] and boxes[k, 1] < py < boxes[k, 3]:
+            return False
+    return True
+
+
 def _blocked_loop(p: FloatArray, q: FloatArray, boxes: FloatArray, out: BoolArray) -> None:
-    """Scalar-loop twin of :func:`_blocked` (compiled by numba): the same arithmetic per
-    segment and box, so the same verdicts; writes ``out``."""
+    """:func:`_blocked` by :func:`_segment_blocked`, segment by segment; writes ``out``."""
     for i in range(p.shape[0]):
-        out[i] = False
-        dx, dy = q[i, 0] - p[i, 0], q[i, 1] - p[i, 1]
-        for k in range(boxes.shape[0]):
-            enter, leave = 0.0, 1.0
-            for axis in range(2):
-                o = p[i, axis]
-                d = dx if axis == 0 else dy
-                lo, hi = boxes[k, axis], boxes[k, axis + 2]
-                if d != 0.0:
-                    ta, tb = (lo - o) / d, (hi - o) / d
-                    enter = max(enter, min(ta, tb))
-                    leave = min(leave, max(ta, tb))
-                elif not (lo < o < hi):
-                    leave = -np.inf  # outside this slab for all t
-            if enter < leave:
-                out[i] = True
-                break
+        out[i] = _segment_blocked(p[i, 0], p[i, 1], q[i, 0], q[i, 1], boxes)
 
 
 _blocked_numba: Callable[..., None] | None
 try:
     from numba import njit
 
+    # the scalar helpers first, so that the loops calling them compile against them
+    _segment_blocked = njit(cache=True)(_segment_blocked)
+    _point_free = njit(cache=True)(_point_free)
     _blocked_numba = njit(cache=True)(_blocked_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
     _blocked_numba = None

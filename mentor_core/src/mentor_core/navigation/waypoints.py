@@ -12,7 +12,9 @@ that direction at the distance still to go::
 itself, so that in the open the goal inputs are the paper's. This is how
 :class:`~mentor_core.navigation.guide.PathGuide` shows a global plan's carrot (its direction,
 at the length of the plan still to go), without the plan: the shortest ways are exact and
-cost one visibility test per corner, cheap enough to ask every decision of a training run.
+cost a sort and a few visibility tests per robot (:mod:`~mentor_core.navigation.goal_distance`),
+all robots of a decision in one compiled loop, cheap enough to ask every decision of a
+training run.
 
 The ways keep the global planner's disc clear (the footprint's circumscribed radius plus the
 margin, :attr:`~mentor_core.navigation.guide.GuideConfig.inflation`); a robot closer to an
@@ -22,14 +24,15 @@ way at all the goal.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
-from mentor_core.navigation.goal_distance import GoalDistance
+from mentor_core.navigation import goal_distance
+from mentor_core.navigation.goal_distance import GoalDistance, _first_corner
 from mentor_core.navigation.guide import GuideConfig
-from mentor_core.navigation.shortest_path import VisibilityGraph
+from mentor_core.navigation.shortest_path import VisibilityGraph, _point_free, _segment_blocked
 from mentor_core.sim.world import Scenario
 
 FloatArray = NDArray[np.float64]
@@ -72,6 +75,7 @@ class WaypointGoals:
                 pair.append(GoalDistance(graphs[key], sc.goal, goal_radius))
             self._ways.append(tuple(pair))
         self._goals = np.array([sc.goal[:2] for sc in scenarios], dtype=np.float64)
+        self._packed = _pack(self._ways)
 
     @property
     def guided(self) -> list[bool]:
@@ -82,6 +86,10 @@ class WaypointGoals:
         here = np.asarray(poses, dtype=np.float64)[:, :2]
         which = np.asarray(robots, dtype=np.int64) % len(self._ways)
         out = self._goals[which]
+        if _aims_numba is not None:
+            _aims_numba(np.ascontiguousarray(here), which, self._goals, self.goal_radius,
+                        *self._packed, out)  # fmt: skip
+            return out
         for s in np.unique(which).tolist():
             ways = self._ways[s]
             if ways is None:
@@ -113,3 +121,84 @@ def _aims(
         out[rows[bend]] = here[rows[bend]] + step[bend] * scale[:, None]
         todo = todo[~found]
     return out
+
+
+Packed = tuple[IntArray, IntArray, IntArray, FloatArray, FloatArray, NDArray[np.bool_],
+               FloatArray, FloatArray, NDArray[np.bool_]]  # fmt: skip
+
+
+def _pack(ways: Sequence[tuple[GoalDistance, ...] | None]) -> Packed:
+    """The ways as flat arrays for :func:`_aims_loop`: ``(S, L)`` way numbers per scenario
+    and level (-1: not guided), then per way its box and corner offsets (``W + 1`` each), the
+    shrunk boxes, the corners, the quadrants hiding them, their ``L(v)``, the arena's free
+    bounds ``(W, 2)`` and whether the goal is reachable."""
+    levels = max((len(w) for w in ways if w is not None), default=0)
+    number = np.full((len(ways), levels), -1, dtype=np.int64)
+    flat = [way for w in ways if w is not None for way in w]
+    for s, w in enumerate(ways):
+        if w is not None:
+            number[s, : len(w)] = np.arange(len(w)) + sum(len(v or ()) for v in ways[:s])
+    box_at = np.cumsum([0] + [len(g.graph.shrunk) for g in flat]).astype(np.int64)
+    node_at = np.cumsum([0] + [len(g.graph.nodes) for g in flat]).astype(np.int64)
+    boxes = np.concatenate([g.graph.shrunk for g in flat]) if flat else np.zeros((0, 4))
+    nodes = np.concatenate([g.graph.nodes for g in flat]) if flat else np.zeros((0, 2))
+    hidden = np.concatenate([g.graph.hidden for g in flat]) if flat else np.zeros((0, 4), bool)
+    via = np.concatenate([g.via for g in flat]) if flat else np.zeros(0)
+    bounds = np.array([g.graph.bounds for g in flat], dtype=np.float64).reshape(-1, 2)
+    reachable = np.array([g.reachable for g in flat], dtype=np.bool_)
+    return (number, box_at, node_at, np.ascontiguousarray(boxes, dtype=np.float64),
+            np.ascontiguousarray(nodes, dtype=np.float64), hidden, via.astype(np.float64),
+            bounds, reachable)  # fmt: skip
+
+
+def _aims_loop(
+    here: FloatArray, which: IntArray, goals: FloatArray, goal_radius: float,
+    number: IntArray, box_at: IntArray, node_at: IntArray, boxes: FloatArray,
+    nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray, bounds: FloatArray,
+    reachable: NDArray[np.bool_], out: FloatArray,
+) -> None:  # fmt: skip
+    """Compiled twin of :func:`_aims` for all robots at once (arrays of :func:`_pack`);
+    ``out`` holds each robot's goal and gets its aim."""
+    totals = np.empty(nodes.shape[0])  # scratch for any one way's corners
+    heap = np.empty(nodes.shape[0], dtype=np.int64)
+    r = goal_radius
+    for i in range(here.shape[0]):
+        s = which[i]
+        px, py = here[i, 0], here[i, 1]
+        gx, gy = goals[s, 0], goals[s, 1]
+        for level in range(number.shape[1]):
+            w = number[s, level]
+            if w < 0:
+                break  # not guided: it sees its goal
+            if not reachable[w]:
+                continue
+            b = boxes[box_at[w] : box_at[w + 1]]
+            if not _point_free(px, py, b, bounds[w, 0], bounds[w, 1]):
+                continue
+            gap = np.hypot(gx - px, gy - py)
+            if gap <= r:
+                break  # inside the disc: the goal
+            ex, ey = gx - r * ((gx - px) / gap), gy - r * ((gy - py) / gap)
+            if not _segment_blocked(px, py, ex, ey, b):
+                break  # sees into the disc: the goal, bit for bit
+            at, to = node_at[w], node_at[w + 1]
+            c = nodes[at:to]
+            dist, k = _first_corner(px, py, c, hidden[at:to], via[at:to], b, totals, heap)
+            if k < 0:
+                continue  # no way at this level
+            sx, sy = c[k, 0] - px, c[k, 1] - py
+            length = np.hypot(sx, sy)
+            if (c[k, 0] != gx or c[k, 1] != gy) and length > 0.0:
+                scale = (dist + r) / length
+                out[i, 0] = px + sx * scale
+                out[i, 1] = py + sy * scale
+            break
+
+
+_aims_numba: Callable[..., None] | None
+if goal_distance._first_corners_numba is not None:
+    from numba import njit
+
+    _aims_numba = njit(cache=True)(_aims_loop)
+else:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
+    _aims_numba = None
