@@ -51,6 +51,12 @@ def test_experience_points_chain_and_carry_the_actions() -> None:
         np.testing.assert_array_equal(points[1:, :k], points[:-1, k + 2:])  # U(t+1) -> U(t)
         np.testing.assert_allclose(points[:, k:k + 2], np.tile([0.0, 2.0], (len(points), 1)))
         assert (points[:, :k] <= UGV.sensor_range).all() and np.isfinite(points).all()
+    # all robots' points in one array, robot by robot: the per-robot arrays read in place
+    rows, at = batch.packed_experience()
+    assert at.tolist() == [0, *np.cumsum(batch.steps).tolist()]
+    for i, points in enumerate(batch.experience):
+        assert np.shares_memory(points, rows)
+        np.testing.assert_array_equal(rows[at[i] : at[i + 1]], points)
 
 
 def test_time_out_and_policy_sees_only_active_robots() -> None:
@@ -114,6 +120,9 @@ def test_several_worlds_give_what_each_world_gives_alone() -> None:
         np.testing.assert_array_equal(batch.trajectories[i, len(t) :], t[-1:].repeat(
             batch.trajectories.shape[1] - len(t), axis=0))
         np.testing.assert_array_equal(batch.experience[i], alone.experience[0])
+    rows, at = batch.packed_experience()  # several worlds: packed in robot order, copied
+    for i, points in enumerate(batch.experience):
+        np.testing.assert_array_equal(rows[at[i] : at[i + 1]], points)
     with pytest.raises(ValueError):
         run_episodes([], UGV, straight)
 

@@ -12,7 +12,12 @@ from scipy.sparse.csgraph import minimum_spanning_tree
 from scipy.spatial.distance import pdist
 
 from mentor_core.objectives.emst_prim import bounded_prim_length, prim_length
-from mentor_core.objectives.experience import METHODS, experience_gain, experience_gains
+from mentor_core.objectives.experience import (
+    METHODS,
+    experience_gain,
+    experience_gains,
+    experience_gains_packed,
+)
 
 SENSOR_RANGE = 4.0
 
@@ -115,6 +120,26 @@ def test_batch_equals_single_calls() -> None:
         experience_gains(mixed), [experience_gain(points) for points in mixed]
     )
     assert experience_gains([]).shape == (0,)
+
+
+def test_packed_slices_equal_the_sets() -> None:
+    # the trainer's layout: every genome's points in a row of one array, read in place
+    rng = np.random.default_rng(7)
+    sets = [sensor_like(rng, n, 8) for n in (0, 1, 50, 300, 120)]
+    sets[2][::3, 0] = -0.0  # a signed zero is the same coordinate
+    rows = np.concatenate(sets)
+    at = np.cumsum([0] + [len(points) for points in sets])
+    for method in METHODS:
+        np.testing.assert_array_equal(experience_gains_packed(rows, at, method),
+                                      experience_gains(sets, method))  # fmt: skip
+    # offsets may end before the rows do; the rows past them are not read
+    spare = np.concatenate([rows, np.full((2, 18), np.nan)])
+    np.testing.assert_array_equal(experience_gains_packed(spare, at), experience_gains(sets))
+    for bad in ([1, 5], [0, 9, 5], [0, len(rows) + 1], []):
+        with pytest.raises(ValueError, match="offsets"):
+            experience_gains_packed(rows, bad)
+    with pytest.raises(ValueError, match="finite"):
+        experience_gains_packed(spare, [0, len(spare)])
 
 
 @pytest.mark.parametrize(

@@ -31,6 +31,7 @@ Methods:
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 from typing import Literal, cast
 
 import numpy as np
@@ -163,5 +164,34 @@ def experience_gains(point_sets: Sequence[ArrayLike], method: Method = "auto") -
         return np.array([experience_gain(values, cast(Method, chosen)) for values in sets])
     offsets = np.zeros(len(sets) + 1, dtype=np.int64)
     offsets[1:] = np.cumsum([values.shape[0] for values in sets])
-    gains: np.ndarray = _gains_kernel(np.concatenate(sets), offsets, _KERNELS.index(chosen))
+    return experience_gains_packed(np.concatenate(sets), offsets, cast(Method, chosen))
+
+
+def experience_gains_packed(
+    points: ArrayLike, offsets: ArrayLike, method: Method = "auto"
+) -> np.ndarray:
+    """``experience_gains`` of the consecutive slices ``points[offsets[s]:offsets[s + 1]]``
+    of one ``(n, d)`` array (the trainer's layout: every genome's experience points in a
+    row), without copying them.
+
+    Returns:
+        (len(offsets) - 1,) float64 gains, equal to ``experience_gains`` of the slices.
+
+    Raises:
+        ValueError: as ``experience_gain``; offsets not rising from 0 to at most n.
+    """
+    values = np.asarray(points, dtype=np.float64)
+    if values.ndim != 2:
+        raise ValueError(f"points: expected an (n, d) matrix, got shape {values.shape}")
+    at = np.asarray(offsets, dtype=np.int64).reshape(-1)
+    if len(at) < 1 or at[0] != 0 or np.any(np.diff(at) < 0) or at[-1] > len(values):
+        raise ValueError(f"offsets: expected rising from 0 to at most {len(values)}")
+    used = values[: at[-1]]
+    if not np.isfinite(used).all():
+        raise ValueError("points: coordinates must be finite (NaN or inf found)")
+    chosen = _resolve(method)
+    if chosen == "numpy":
+        return np.array([_prim_numpy(used[a:b] + 0.0) for a, b in pairwise(at.tolist())])
+    # the compiled kernels compare coordinates, never their bytes: -0.0 needs no copy
+    gains: np.ndarray = _gains_kernel(np.ascontiguousarray(used), at, _KERNELS.index(chosen))
     return gains

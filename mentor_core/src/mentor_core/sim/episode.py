@@ -23,7 +23,7 @@ of the experience: G measures behaviour (readings and actions), as in the paper.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from itertools import chain
 from typing import Any
 
@@ -58,6 +58,8 @@ class EpisodeBatch:
         trajectories: ``(n, T + 1, 3)`` pose after each decision (row 0 the start), padded with
             the final pose; ``T = steps.max()``.
         experience: per robot a ``(steps_i, 2 k + 2)`` array of experience points.
+        experience_rows: all of them in robot order, when ``experience`` are its consecutive
+            slices (a batch run in one world); else None. :meth:`packed_experience` reads it.
     """
 
     reached: BoolArray
@@ -69,6 +71,19 @@ class EpisodeBatch:
     steps: IntArray
     trajectories: FloatArray
     experience: tuple[FloatArray, ...]
+    experience_rows: FloatArray | None = field(default=None, repr=False, compare=False)
+
+    def packed_experience(self) -> tuple[FloatArray, IntArray]:
+        """All robots' experience points in one array, robot by robot, and the ``(n + 1,)``
+        offsets of each robot's rows: ``experience[i] == rows[at[i]:at[i + 1]]``. No copy
+        when the batch holds them so (``experience_rows``)."""
+        at = np.zeros(len(self.experience) + 1, dtype=np.int64)
+        at[1:] = np.cumsum([len(rows) for rows in self.experience])
+        if self.experience_rows is not None:
+            return self.experience_rows, at
+        if not self.experience:
+            return np.zeros((0, 0), dtype=np.float64), at
+        return np.concatenate(self.experience, axis=0), at
 
     @property
     def time_remaining(self) -> FloatArray:
@@ -140,8 +155,9 @@ def _decision_limits(
 
 def _group_experience(
     chunks: list[FloatArray], owners: list[IntArray], steps: IntArray, width: int
-) -> tuple[FloatArray, ...]:
-    """Split the per-decision experience rows into one array per robot, in decision order.
+) -> tuple[FloatArray, tuple[FloatArray, ...]]:
+    """Split the per-decision experience rows into one array per robot, in decision order:
+    one array of all robots' rows, robot by robot, and its slices.
 
     Chunk ``t`` holds decision ``t`` of the robots ``owners[t]``: a robot decides once in
     every period from the first until it stops, so robot ``i``'s decision ``t`` is row
@@ -152,7 +168,7 @@ def _group_experience(
     rows = np.empty((int(ends[-1]) if ends.size else 0, width), dtype=np.float64)
     for t, (chunk, idx) in enumerate(zip(chunks, owners, strict=True)):
         rows[starts[idx] + t] = chunk
-    return tuple(rows[lo:hi] for lo, hi in zip(starts.tolist(), ends.tolist(), strict=True))
+    return rows, tuple(rows[lo:hi] for lo, hi in zip(starts.tolist(), ends.tolist(), strict=True))
 
 
 def run_episodes(
@@ -295,6 +311,7 @@ def _run_world(
         active &= ~(result.reached | result.collided) & (steps < allowed)
         trajectory.append(engine.poses.copy())
 
+    rows, experience = _group_experience(chunks, owners, steps, 2 * profile.n_sensors + 2)
     return EpisodeBatch(
         reached=reached,
         collided=collided,
@@ -304,5 +321,6 @@ def _run_world(
         final_distance=engine.goal_distance(),
         steps=steps,
         trajectories=np.stack(trajectory, axis=1),
-        experience=_group_experience(chunks, owners, steps, 2 * profile.n_sensors + 2),
+        experience=experience,
+        experience_rows=rows,
     )

@@ -39,7 +39,7 @@ from mentor_core.navigation.goal_distance import GoalDistance
 from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.navigation.waypoints import WaypointGoals
-from mentor_core.objectives.experience import experience_gains
+from mentor_core.objectives.experience import experience_gains_packed
 from mentor_core.objectives.performance import (
     credited_performance,
     path_credit,
@@ -236,14 +236,17 @@ class NavigationProblem:
         objectives = np.zeros((n_gen, 2), dtype=np.float64)
         objectives[:, 0] = per_scenario.sum(axis=1)
         if self.with_experience:
-            chosen = range(n_gen) if gains == "all" else [int(np.argmax(objectives[:, 0]))]
-            points = [
-                np.concatenate(batch.experience[g * n_scen : (g + 1) * n_scen], axis=0)
-                for g in chosen
-            ]
-            if gains == "best":
+            # genome g's points are rows[at[g S]:at[(g + 1) S]] (genome-major robots)
+            rows, at = batch.packed_experience()
+            per_genome = at[::n_scen]
+            if gains == "all":
+                objectives[:, 1] = experience_gains_packed(rows, per_genome)
+            else:
+                g = int(np.argmax(objectives[:, 0]))
                 objectives[:, 1] = np.nan
-            objectives[list(chosen), 1] = experience_gains(points)
+                objectives[g, 1] = experience_gains_packed(
+                    rows[per_genome[g] : per_genome[g + 1]], [0, per_genome[g + 1] - per_genome[g]]
+                )[0]
         return Evaluation(
             objectives=objectives,
             success_rate=batch.reached.reshape(n_gen, n_scen).mean(axis=1),
