@@ -29,7 +29,7 @@ from mentor_core.navigation import shortest_path
 from mentor_core.navigation.shortest_path import (
     HIDING_MARGIN,
     VisibilityGraph,
-    _corner_blocked,
+    _segment_blocked,
 )
 
 FloatArray = NDArray[np.float64]
@@ -106,8 +106,7 @@ class GoalDistance:
                 k = np.empty(len(around), dtype=np.int64)
                 g = self.graph
                 _first_corners_numba(np.ascontiguousarray(q[around]), corners, g.hidden,
-                                     g.near_boxes, g.box_reach, self._via, g.shrunk, dist,
-                                     k)  # fmt: skip
+                                     self._via, g.shrunk, dist, k)  # fmt: skip
                 best[around] = dist
                 corner[around] = k
                 around = around[:0]
@@ -151,16 +150,15 @@ def _sift_down(heap: IntArray, size: int, i: int, totals: FloatArray) -> None:
 
 
 def _first_corner(
-    px: float, py: float, nodes: FloatArray, hidden: NDArray[np.bool_], near: IntArray,
-    reach: FloatArray, via: FloatArray, boxes: FloatArray, totals: FloatArray, heap: IntArray,
+    px: float, py: float, nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray,
+    boxes: FloatArray, totals: FloatArray, heap: IntArray,
 ) -> tuple[float, int]:  # fmt: skip
     """``min over corners j that p sees of |p - nodes[j]| + via[j]`` and its ``j`` (``inf,
     -1``: none seen), compiled by numba: the corners in ascending order of that sum (a heap;
     ties to the lower index as with ``argmin``), the first one seen is the minimum; most
     points see one of their first few. A corner its own box hides from ``p`` (``hidden``,
-    :attr:`VisibilityGraph.hidden`) is left out. ``near``, ``reach``, ``boxes``: the graph's
-    boxes by distance from each corner and its shrunk boxes; ``totals``, ``heap``: scratch of
-    at least n."""
+    :attr:`VisibilityGraph.hidden`) is left out. ``boxes``: the graph's shrunk boxes;
+    ``totals``, ``heap``: scratch of at least n."""
     size = 0
     for j in range(nodes.shape[0]):
         dx, dy = px - nodes[j, 0], py - nodes[j, 1]
@@ -176,7 +174,7 @@ def _first_corner(
         _sift_down(heap, size, i, totals)
     while size:
         k = heap[0]
-        if not _corner_blocked(px, py, nodes[k, 0], nodes[k, 1], boxes, near[k], reach[k]):
+        if not _segment_blocked(px, py, nodes[k, 0], nodes[k, 1], boxes):
             return totals[k], k
         size -= 1
         heap[0] = heap[size]
@@ -185,15 +183,15 @@ def _first_corner(
 
 
 def _first_corners_loop(
-    points: FloatArray, nodes: FloatArray, hidden: NDArray[np.bool_], near: IntArray,
-    reach: FloatArray, via: FloatArray, boxes: FloatArray, dist: FloatArray, first: IntArray,
+    points: FloatArray, nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray,
+    boxes: FloatArray, dist: FloatArray, first: IntArray,
 ) -> None:  # fmt: skip
     """:func:`_first_corner` for each of ``points`` (m, 2); writes ``dist`` and ``first``."""
     totals = np.empty(nodes.shape[0])
     heap = np.empty(nodes.shape[0], dtype=np.int64)
     for i in range(points.shape[0]):
-        dist[i], first[i] = _first_corner(points[i, 0], points[i, 1], nodes, hidden, near,
-                                          reach, via, boxes, totals, heap)  # fmt: skip
+        dist[i], first[i] = _first_corner(points[i, 0], points[i, 1], nodes, hidden, via,
+                                          boxes, totals, heap)  # fmt: skip
 
 
 _first_corners_numba: Callable[..., None] | None

@@ -39,7 +39,6 @@ from mentor_core.sim.world import World
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
-IntArray = NDArray[np.int64]
 EPSILON = 1e-9  # m; a segment entering a grown box by less than this is not blocked
 # segment-box tests per numpy chunk (bounds the temporary arrays to a few MB)
 _CHUNK = 200_000
@@ -78,7 +77,6 @@ class VisibilityGraph:
         corners = np.unique(corners, axis=0) if len(corners) else corners.reshape(0, 2)
         self.nodes: FloatArray = corners[self.free(corners)]
         self.hidden = _hiding_quadrants(self.nodes, grown)
-        self.near_boxes, self.box_reach = _boxes_by_distance(self.nodes, self.shrunk)
         n = len(self.nodes)
         ii, jj = np.triu_indices(n, k=1)
         ok = self.visible(self.nodes[ii], self.nodes[jj])
@@ -264,71 +262,31 @@ def _blocked(p: FloatArray, q: FloatArray, boxes: FloatArray) -> BoolArray:
     return np.asarray((enter < leave).any(axis=1), dtype=np.bool_)
 
 
-def _segment_enters(
-    px: float, py: float, qx: float, qy: float, boxes: FloatArray, k: int
-) -> bool:  # fmt: skip
-    """Whether the segment ``(px, py) -> (qx, qy)`` enters the open interior of box ``k`` of
-    ``boxes`` (k, 4): the scalar twin of :func:`_blocked` for one box (compiled by numba), the
-    same arithmetic, so the same verdicts."""
-    # a box the segment's bounding box does not overlap: Liang-Barsky's own verdict
-    # (rounding is monotone), at the cost of four comparisons
-    if (max(px, qx) <= boxes[k, 0] or min(px, qx) >= boxes[k, 2]
-            or max(py, qy) <= boxes[k, 1] or min(py, qy) >= boxes[k, 3]):  # fmt: skip
-        return False
-    enter, leave = 0.0, 1.0
-    for axis in range(2):
-        o = px if axis == 0 else py
-        d = qx - px if axis == 0 else qy - py
-        lo, hi = boxes[k, axis], boxes[k, axis + 2]
-        if d != 0.0:
-            ta, tb = (lo - o) / d, (hi - o) / d
-            enter = max(enter, min(ta, tb))
-            leave = min(leave, max(ta, tb))
-        elif not (lo < o < hi):
-            return False  # outside this slab for all t
-    return enter < leave
-
-
 def _segment_blocked(px: float, py: float, qx: float, qy: float, boxes: FloatArray) -> bool:
     """Whether the segment ``(px, py) -> (qx, qy)`` enters the open interior of any box
-    (k, 4): :func:`_segment_enters` box by box."""
+    (k, 4): the scalar twin of :func:`_blocked` (compiled by numba), the same arithmetic per
+    box, so the same verdicts."""
+    dx, dy = qx - px, qy - py
+    x0, x1, y0, y1 = min(px, qx), max(px, qx), min(py, qy), max(py, qy)
     for k in range(boxes.shape[0]):
-        if _segment_enters(px, py, qx, qy, boxes, k):
+        # a box the segment's bounding box does not overlap: Liang-Barsky's own verdict
+        # (rounding is monotone), at the cost of four comparisons
+        if x1 <= boxes[k, 0] or x0 >= boxes[k, 2] or y1 <= boxes[k, 1] or y0 >= boxes[k, 3]:
+            continue
+        enter, leave = 0.0, 1.0
+        for axis in range(2):
+            o = px if axis == 0 else py
+            d = dx if axis == 0 else dy
+            lo, hi = boxes[k, axis], boxes[k, axis + 2]
+            if d != 0.0:
+                ta, tb = (lo - o) / d, (hi - o) / d
+                enter = max(enter, min(ta, tb))
+                leave = min(leave, max(ta, tb))
+            elif not (lo < o < hi):
+                leave = -np.inf  # outside this slab for all t
+        if enter < leave:
             return True
     return False
-
-
-def _corner_blocked(
-    px: float, py: float, qx: float, qy: float, boxes: FloatArray, near: IntArray,
-    reach: FloatArray,
-) -> bool:  # fmt: skip
-    """:func:`_segment_blocked` for a segment that ends at a corner ``q``, given the boxes by
-    their distance from it (``near``, ``reach``: a row of :attr:`VisibilityGraph.near_boxes`,
-    :attr:`VisibilityGraph.box_reach`): the boxes farther from ``q`` than the segment is long
-    cannot meet it, and the nearest, most often the ones in the way, come first."""
-    length = np.sqrt((px - qx) * (px - qx) + (py - qy) * (py - qy))
-    for t in range(near.shape[0]):
-        if reach[t] >= length:
-            return False
-        if _segment_enters(px, py, qx, qy, boxes, near[t]):
-            return True
-    return False
-
-
-REACH_MARGIN = 1e-9  # m; box_reach is this much short of the distance, against rounding
-
-
-def _boxes_by_distance(nodes: FloatArray, boxes: FloatArray) -> tuple[IntArray, FloatArray]:
-    """Per corner, the ``boxes`` (shrunk) by their distance from it (``(n, k)`` indices) and
-    those distances less ``REACH_MARGIN`` (m): a segment from the corner shorter than a
-    box's entry cannot reach into that box, by a margin no rounding closes."""
-    gap_x = np.maximum(np.maximum(boxes[None, :, 0] - nodes[:, None, 0],
-                                  nodes[:, None, 0] - boxes[None, :, 2]), 0.0)  # fmt: skip
-    gap_y = np.maximum(np.maximum(boxes[None, :, 1] - nodes[:, None, 1],
-                                  nodes[:, None, 1] - boxes[None, :, 3]), 0.0)  # fmt: skip
-    distance = np.hypot(gap_x, gap_y) - REACH_MARGIN
-    order = np.argsort(distance, axis=1, kind="stable").astype(np.int64)
-    return order, np.take_along_axis(distance, order, axis=1)
 
 
 def _point_free(px: float, py: float, boxes: FloatArray, lo: float, hi: float) -> bool:
@@ -354,9 +312,7 @@ try:
     from numba import njit
 
     # the scalar helpers first, so that the loops calling them compile against them
-    _segment_enters = njit(cache=True)(_segment_enters)
     _segment_blocked = njit(cache=True)(_segment_blocked)
-    _corner_blocked = njit(cache=True)(_corner_blocked)
     _point_free = njit(cache=True)(_point_free)
     _blocked_numba = njit(cache=True)(_blocked_loop)
 except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback

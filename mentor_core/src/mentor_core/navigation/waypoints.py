@@ -124,15 +124,14 @@ def _aims(
 
 
 Packed = tuple[IntArray, IntArray, IntArray, FloatArray, FloatArray, NDArray[np.bool_],
-               IntArray, FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]  # fmt: skip
+               FloatArray, FloatArray, NDArray[np.bool_]]  # fmt: skip
 
 
 def _pack(ways: Sequence[tuple[GoalDistance, ...] | None]) -> Packed:
     """The ways as flat arrays for :func:`_aims_loop`: ``(S, L)`` way numbers per scenario
     and level (-1: not guided), then per way its box and corner offsets (``W + 1`` each), the
-    shrunk boxes, the corners, the quadrants hiding them, the boxes by distance from them
-    (padded with unreachable ones), their ``L(v)``, the arena's free bounds ``(W, 2)`` and
-    whether the goal is reachable."""
+    shrunk boxes, the corners, the quadrants hiding them, their ``L(v)``, the arena's free
+    bounds ``(W, 2)`` and whether the goal is reachable."""
     levels = max((len(w) for w in ways if w is not None), default=0)
     number = np.full((len(ways), levels), -1, dtype=np.int64)
     flat = [way for w in ways if w is not None for way in w]
@@ -144,26 +143,19 @@ def _pack(ways: Sequence[tuple[GoalDistance, ...] | None]) -> Packed:
     boxes = np.concatenate([g.graph.shrunk for g in flat]) if flat else np.zeros((0, 4))
     nodes = np.concatenate([g.graph.nodes for g in flat]) if flat else np.zeros((0, 2))
     hidden = np.concatenate([g.graph.hidden for g in flat]) if flat else np.zeros((0, 4), bool)
-    width = max((g.graph.near_boxes.shape[1] for g in flat), default=0)
-    near = np.zeros((int(node_at[-1]), width), dtype=np.int64)
-    reach = np.full((int(node_at[-1]), width), np.inf)
-    for g, at in zip(flat, node_at.tolist(), strict=False):
-        n, k = g.graph.near_boxes.shape
-        near[at : at + n, :k] = g.graph.near_boxes
-        reach[at : at + n, :k] = g.graph.box_reach
     via = np.concatenate([g.via for g in flat]) if flat else np.zeros(0)
     bounds = np.array([g.graph.bounds for g in flat], dtype=np.float64).reshape(-1, 2)
     reachable = np.array([g.reachable for g in flat], dtype=np.bool_)
     return (number, box_at, node_at, np.ascontiguousarray(boxes, dtype=np.float64),
-            np.ascontiguousarray(nodes, dtype=np.float64), hidden, near, reach,
-            via.astype(np.float64), bounds, reachable)  # fmt: skip
+            np.ascontiguousarray(nodes, dtype=np.float64), hidden, via.astype(np.float64),
+            bounds, reachable)  # fmt: skip
 
 
 def _aims_loop(
     here: FloatArray, which: IntArray, goals: FloatArray, goal_radius: float,
     number: IntArray, box_at: IntArray, node_at: IntArray, boxes: FloatArray,
-    nodes: FloatArray, hidden: NDArray[np.bool_], near: IntArray, reach: FloatArray,
-    via: FloatArray, bounds: FloatArray, reachable: NDArray[np.bool_], out: FloatArray,
+    nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray, bounds: FloatArray,
+    reachable: NDArray[np.bool_], out: FloatArray,
 ) -> None:  # fmt: skip
     """Compiled twin of :func:`_aims` for all robots at once (arrays of :func:`_pack`);
     ``out`` holds each robot's goal and gets its aim."""
@@ -191,8 +183,7 @@ def _aims_loop(
                 break  # sees into the disc: the goal, bit for bit
             at, to = node_at[w], node_at[w + 1]
             c = nodes[at:to]
-            dist, k = _first_corner(px, py, c, hidden[at:to], near[at:to], reach[at:to],
-                                    via[at:to], b, totals, heap)  # fmt: skip
+            dist, k = _first_corner(px, py, c, hidden[at:to], via[at:to], b, totals, heap)
             if k < 0:
                 continue  # no way at this level
             sx, sy = c[k, 0] - px, c[k, 1] - py
