@@ -10,8 +10,9 @@ point ``p`` of the free space into the goal's disc is::
 
 ``D_c`` the graph's corner-to-corner shortest distances. ``L`` depends on the goal only, so it
 is computed once. For a point, ``|p - v| + L(v)`` is exact for every corner it sees, so the
-first corner it sees in ascending order of that sum is the minimum: a point costs a sort and,
-mostly, a few visibility tests (compiled; numpy, which tests every corner, is the fallback).
+first corner it sees in ascending order of that sum is the minimum: a point costs one sum
+per corner and, mostly, a few visibility tests (compiled; numpy, which tests every corner, is
+the fallback).
 Exact under the same condition as :meth:`VisibilityGraph.to_disc` (the path's last leg into
 the disc is unobstructed), an upper bound otherwise.
 
@@ -26,11 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.navigation import shortest_path
-from mentor_core.navigation.shortest_path import (
-    HIDING_MARGIN,
-    VisibilityGraph,
-    _segment_blocked,
-)
+from mentor_core.navigation.shortest_path import VisibilityGraph, _segment_blocked
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -104,9 +101,8 @@ class GoalDistance:
             if _first_corners_numba is not None:
                 dist = np.empty(len(around))
                 k = np.empty(len(around), dtype=np.int64)
-                g = self.graph
-                _first_corners_numba(np.ascontiguousarray(q[around]), corners, g.hidden,
-                                     self._via, g.shrunk, dist, k)  # fmt: skip
+                _first_corners_numba(np.ascontiguousarray(q[around]), corners, self._via,
+                                     self.graph.shrunk, dist, k)  # fmt: skip
                 best[around] = dist
                 corner[around] = k
                 around = around[:0]
@@ -130,76 +126,47 @@ class GoalDistance:
         return out, first
 
 
-def _before(totals: FloatArray, a: int, b: int) -> bool:
-    """Whether corner ``a`` comes before ``b``: the lower sum, on a tie the lower index."""
-    return totals[a] < totals[b] or (totals[a] == totals[b] and a < b)
-
-
-def _sift_down(heap: IntArray, size: int, i: int, totals: FloatArray) -> None:
-    """Restore the min-heap ``heap[:size]`` (of corners, by :func:`_before`) below ``i``."""
-    while True:
-        child = 2 * i + 1
-        if child >= size:
-            return
-        if child + 1 < size and _before(totals, heap[child + 1], heap[child]):
-            child += 1
-        if not _before(totals, heap[child], heap[i]):
-            return
-        heap[i], heap[child] = heap[child], heap[i]
-        i = child
-
-
 def _first_corner(
-    px: float, py: float, nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray,
-    boxes: FloatArray, totals: FloatArray, heap: IntArray,
+    px: float, py: float, nodes: FloatArray, via: FloatArray, boxes: FloatArray,
+    totals: FloatArray,
 ) -> tuple[float, int]:  # fmt: skip
     """``min over corners j that p sees of |p - nodes[j]| + via[j]`` and its ``j`` (``inf,
-    -1``: none seen), compiled by numba: the corners in ascending order of that sum (a heap;
-    ties to the lower index as with ``argmin``), the first one seen is the minimum; most
-    points see one of their first few. A corner its own box hides from ``p`` (``hidden``,
-    :attr:`VisibilityGraph.hidden`) is left out. ``boxes``: the graph's shrunk boxes;
-    ``totals``, ``heap``: scratch of at least n."""
-    size = 0
-    for j in range(nodes.shape[0]):
+    -1``: none seen), compiled by numba: the corners in ascending order of that sum, ties to
+    the lower index as with ``argmin``; the first one seen is the minimum. Picked one by one,
+    since most points see one of their first few (a heap or leaving out the corners a point's
+    own box hides measured no faster). ``boxes``: the graph's shrunk boxes; ``totals``:
+    scratch of at least n."""
+    n = nodes.shape[0]
+    for j in range(n):
         dx, dy = px - nodes[j, 0], py - nodes[j, 1]
         totals[j] = np.sqrt(dx * dx + dy * dy) + via[j]  # as the numpy path, not hypot: 3x
-        if not totals[j] < np.inf:
-            continue  # no way on from this corner
-        if abs(dx) > HIDING_MARGIN and abs(dy) > HIDING_MARGIN:
-            if hidden[j, 2 * (dx > 0.0) + (dy > 0.0)]:
-                continue
-        heap[size] = j
-        size += 1
-    for i in range(size // 2 - 1, -1, -1):
-        _sift_down(heap, size, i, totals)
-    while size:
-        k = heap[0]
+    for _ in range(n):
+        k, low = -1, np.inf
+        for j in range(n):
+            if totals[j] < low:
+                k, low = j, totals[j]
+        if k < 0:
+            break  # the rest cannot reach the goal
         if not _segment_blocked(px, py, nodes[k, 0], nodes[k, 1], boxes):
-            return totals[k], k
-        size -= 1
-        heap[0] = heap[size]
-        _sift_down(heap, size, 0, totals)
+            return low, k
+        totals[k] = np.inf
     return np.inf, -1
 
 
 def _first_corners_loop(
-    points: FloatArray, nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray,
-    boxes: FloatArray, dist: FloatArray, first: IntArray,
+    points: FloatArray, nodes: FloatArray, via: FloatArray, boxes: FloatArray,
+    dist: FloatArray, first: IntArray,
 ) -> None:  # fmt: skip
     """:func:`_first_corner` for each of ``points`` (m, 2); writes ``dist`` and ``first``."""
     totals = np.empty(nodes.shape[0])
-    heap = np.empty(nodes.shape[0], dtype=np.int64)
     for i in range(points.shape[0]):
-        dist[i], first[i] = _first_corner(points[i, 0], points[i, 1], nodes, hidden, via,
-                                          boxes, totals, heap)  # fmt: skip
+        dist[i], first[i] = _first_corner(points[i, 0], points[i, 1], nodes, via, boxes, totals)
 
 
 _first_corners_numba: Callable[..., None] | None
 if shortest_path._blocked_numba is not None:
     from numba import njit
 
-    _before = njit(cache=True)(_before)
-    _sift_down = njit(cache=True)(_sift_down)
     _first_corner = njit(cache=True)(_first_corner)
     _first_corners_numba = njit(cache=True)(_first_corners_loop)
 else:  # pragma: no cover - numba is in the lock file; numpy stays the fallback

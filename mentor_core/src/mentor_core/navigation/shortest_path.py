@@ -76,7 +76,6 @@ class VisibilityGraph:
                                   grown[:, [2, 3]], grown[:, [0, 3]]])  # fmt: skip
         corners = np.unique(corners, axis=0) if len(corners) else corners.reshape(0, 2)
         self.nodes: FloatArray = corners[self.free(corners)]
-        self.hidden = _hiding_quadrants(self.nodes, grown)
         n = len(self.nodes)
         ii, jj = np.triu_indices(n, k=1)
         ok = self.visible(self.nodes[ii], self.nodes[jj])
@@ -220,27 +219,6 @@ class VisibilityGraph:
         seen = (near or self).visible(np.broadcast_to(point, self.nodes.shape), self.nodes)
         d = np.hypot(*(self.nodes - point).T)
         return np.where(seen, d, np.inf)
-
-
-HIDING_MARGIN = 1e-6  # m; a point this far inside a corner's box quadrant cannot see it
-
-
-def _hiding_quadrants(nodes: FloatArray, boxes: FloatArray) -> BoolArray:
-    """(n, 4) per corner whether one of the grown ``boxes`` whose corner it is fills the
-    quadrant about it numbered ``2 (x > corner) + (y > corner)``. A point more than
-    ``HIDING_MARGIN`` inside such a quadrant (on both axes) cannot see the corner: the segment
-    reaches it through the box's interior, deeper than ``EPSILON`` by a margin that rounding
-    cannot close (boxes thinner than ``HIDING_MARGIN`` fill none)."""
-    out = np.zeros((len(nodes), 4), dtype=np.bool_)
-    at = {(float(x), float(y)): i for i, (x, y) in enumerate(nodes.tolist())}
-    for x0, y0, x1, y1 in boxes.tolist():
-        if x1 - x0 <= HIDING_MARGIN or y1 - y0 <= HIDING_MARGIN:
-            continue
-        for x, y, quadrant in ((x0, y0, 3), (x1, y0, 1), (x1, y1, 0), (x0, y1, 2)):
-            i = at.get((x, y))
-            if i is not None:
-                out[i, quadrant] = True
-    return out
 
 
 def _blocked(p: FloatArray, q: FloatArray, boxes: FloatArray) -> BoolArray:

@@ -12,7 +12,8 @@ that direction at the distance still to go::
 itself, so that in the open the goal inputs are the paper's. This is how
 :class:`~mentor_core.navigation.guide.PathGuide` shows a global plan's carrot (its direction,
 at the length of the plan still to go), without the plan: the shortest ways are exact and
-cost a sort and a few visibility tests per robot (:mod:`~mentor_core.navigation.goal_distance`),
+cost one sum per corner and a few visibility tests per robot
+(:mod:`~mentor_core.navigation.goal_distance`),
 all robots of a decision in one compiled loop, cheap enough to ask every decision of a
 training run.
 
@@ -123,15 +124,15 @@ def _aims(
     return out
 
 
-Packed = tuple[IntArray, IntArray, IntArray, FloatArray, FloatArray, NDArray[np.bool_],
-               FloatArray, FloatArray, NDArray[np.bool_]]  # fmt: skip
+Packed = tuple[IntArray, IntArray, IntArray, FloatArray, FloatArray, FloatArray, FloatArray,
+               NDArray[np.bool_]]  # fmt: skip
 
 
 def _pack(ways: Sequence[tuple[GoalDistance, ...] | None]) -> Packed:
     """The ways as flat arrays for :func:`_aims_loop`: ``(S, L)`` way numbers per scenario
     and level (-1: not guided), then per way its box and corner offsets (``W + 1`` each), the
-    shrunk boxes, the corners, the quadrants hiding them, their ``L(v)``, the arena's free
-    bounds ``(W, 2)`` and whether the goal is reachable."""
+    shrunk boxes, the corners, their ``L(v)``, the arena's free bounds ``(W, 2)`` and
+    whether the goal is reachable."""
     levels = max((len(w) for w in ways if w is not None), default=0)
     number = np.full((len(ways), levels), -1, dtype=np.int64)
     flat = [way for w in ways if w is not None for way in w]
@@ -142,25 +143,23 @@ def _pack(ways: Sequence[tuple[GoalDistance, ...] | None]) -> Packed:
     node_at = np.cumsum([0] + [len(g.graph.nodes) for g in flat]).astype(np.int64)
     boxes = np.concatenate([g.graph.shrunk for g in flat]) if flat else np.zeros((0, 4))
     nodes = np.concatenate([g.graph.nodes for g in flat]) if flat else np.zeros((0, 2))
-    hidden = np.concatenate([g.graph.hidden for g in flat]) if flat else np.zeros((0, 4), bool)
     via = np.concatenate([g.via for g in flat]) if flat else np.zeros(0)
     bounds = np.array([g.graph.bounds for g in flat], dtype=np.float64).reshape(-1, 2)
     reachable = np.array([g.reachable for g in flat], dtype=np.bool_)
     return (number, box_at, node_at, np.ascontiguousarray(boxes, dtype=np.float64),
-            np.ascontiguousarray(nodes, dtype=np.float64), hidden, via.astype(np.float64),
-            bounds, reachable)  # fmt: skip
+            np.ascontiguousarray(nodes, dtype=np.float64), via.astype(np.float64), bounds,
+            reachable)  # fmt: skip
 
 
 def _aims_loop(
     here: FloatArray, which: IntArray, goals: FloatArray, goal_radius: float,
     number: IntArray, box_at: IntArray, node_at: IntArray, boxes: FloatArray,
-    nodes: FloatArray, hidden: NDArray[np.bool_], via: FloatArray, bounds: FloatArray,
-    reachable: NDArray[np.bool_], out: FloatArray,
+    nodes: FloatArray, via: FloatArray, bounds: FloatArray, reachable: NDArray[np.bool_],
+    out: FloatArray,
 ) -> None:  # fmt: skip
     """Compiled twin of :func:`_aims` for all robots at once (arrays of :func:`_pack`);
     ``out`` holds each robot's goal and gets its aim."""
     totals = np.empty(nodes.shape[0])  # scratch for any one way's corners
-    heap = np.empty(nodes.shape[0], dtype=np.int64)
     r = goal_radius
     for i in range(here.shape[0]):
         s = which[i]
@@ -183,7 +182,7 @@ def _aims_loop(
                 break  # sees into the disc: the goal, bit for bit
             at, to = node_at[w], node_at[w + 1]
             c = nodes[at:to]
-            dist, k = _first_corner(px, py, c, hidden[at:to], via[at:to], b, totals, heap)
+            dist, k = _first_corner(px, py, c, via[at:to], b, totals)
             if k < 0:
                 continue  # no way at this level
             sx, sy = c[k, 0] - px, c[k, 1] - py
