@@ -132,10 +132,12 @@ def test_packed_slices_equal_the_sets() -> None:
     for method in METHODS:
         np.testing.assert_array_equal(experience_gains_packed(rows, at, method),
                                       experience_gains(sets, method))  # fmt: skip
-    # offsets may end before the rows do; the rows past them are not read
-    spare = np.concatenate([rows, np.full((2, 18), np.nan)])
-    np.testing.assert_array_equal(experience_gains_packed(spare, at), experience_gains(sets))
-    for bad in ([1, 5], [0, 9, 5], [0, len(rows) + 1], []):
+    # the rows outside the slices are not read
+    spare = np.concatenate([np.full((3, 18), np.nan), rows, np.full((2, 18), np.nan)])
+    np.testing.assert_array_equal(experience_gains_packed(spare, at + 3), experience_gains(sets))
+    np.testing.assert_array_equal(experience_gains_packed(spare, at[2:4] + 3),
+                                  experience_gains(sets[2:3]))  # fmt: skip
+    for bad in ([-1, 5], [0, 9, 5], [0, len(rows) + 1], []):
         with pytest.raises(ValueError, match="offsets"):
             experience_gains_packed(rows, bad)
     with pytest.raises(ValueError, match="finite"):

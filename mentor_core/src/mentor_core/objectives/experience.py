@@ -172,26 +172,25 @@ def experience_gains_packed(
 ) -> np.ndarray:
     """``experience_gains`` of the consecutive slices ``points[offsets[s]:offsets[s + 1]]``
     of one ``(n, d)`` array (the trainer's layout: every genome's experience points in a
-    row), without copying them.
+    row), without copying them; rows outside the slices are not read.
 
     Returns:
         (len(offsets) - 1,) float64 gains, equal to ``experience_gains`` of the slices.
 
     Raises:
-        ValueError: as ``experience_gain``; offsets not rising from 0 to at most n.
+        ValueError: as ``experience_gain``; offsets not rising within ``[0, n]``.
     """
     values = np.asarray(points, dtype=np.float64)
     if values.ndim != 2:
         raise ValueError(f"points: expected an (n, d) matrix, got shape {values.shape}")
     at = np.asarray(offsets, dtype=np.int64).reshape(-1)
-    if len(at) < 1 or at[0] != 0 or np.any(np.diff(at) < 0) or at[-1] > len(values):
-        raise ValueError(f"offsets: expected rising from 0 to at most {len(values)}")
-    used = values[: at[-1]]
-    if not np.isfinite(used).all():
+    if len(at) < 1 or at[0] < 0 or np.any(np.diff(at) < 0) or at[-1] > len(values):
+        raise ValueError(f"offsets: expected rising within [0, {len(values)}]")
+    if not np.isfinite(values[at[0] : at[-1]]).all():
         raise ValueError("points: coordinates must be finite (NaN or inf found)")
     chosen = _resolve(method)
     if chosen == "numpy":
-        return np.array([_prim_numpy(used[a:b] + 0.0) for a, b in pairwise(at.tolist())])
+        return np.array([_prim_numpy(values[a:b] + 0.0) for a, b in pairwise(at.tolist())])
     # the compiled kernels compare coordinates, never their bytes: -0.0 needs no copy
-    gains: np.ndarray = _gains_kernel(np.ascontiguousarray(used), at, _KERNELS.index(chosen))
+    gains: np.ndarray = _gains_kernel(np.ascontiguousarray(values), at, _KERNELS.index(chosen))
     return gains

@@ -244,9 +244,7 @@ class NavigationProblem:
             else:
                 g = int(np.argmax(objectives[:, 0]))
                 objectives[:, 1] = np.nan
-                objectives[g, 1] = experience_gains_packed(
-                    rows[per_genome[g] : per_genome[g + 1]], [0, per_genome[g + 1] - per_genome[g]]
-                )[0]
+                objectives[g, 1] = experience_gains_packed(rows, per_genome[g : g + 2])[0]
         return Evaluation(
             objectives=objectives,
             success_rate=batch.reached.reshape(n_gen, n_scen).mean(axis=1),
