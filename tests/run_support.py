@@ -1,11 +1,12 @@
-"""A run directory's files as a comparable snapshot, for tests that compare two runs, and the
-tiny training config those runs use."""
+"""A run directory's files as a comparable snapshot, for tests that compare two runs, the
+tiny training config those runs use, and how the tests start a run they interrupt."""
 
 from __future__ import annotations
 
 import csv
 import io
 import json
+import signal
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +19,13 @@ TINY = {
     "n_scenarios": 3,
     "evolution": {"population_size": 6},
 }
+
+
+def sigint_as_in_a_terminal() -> None:
+    """``preexec_fn`` of a run the test stops with SIGINT: Ctrl-C's default, as a terminal's
+    foreground job has it (Python then raises KeyboardInterrupt). A shell started without job
+    control passes its background jobs SIGINT ignored, and the child would run on."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def without_seconds(history: str) -> list[dict[str, str]]:

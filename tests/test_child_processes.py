@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from run_support import sigint_as_in_a_terminal
 
 from mentor_core.training.child_processes import Reaper, descendants, process_table
 
@@ -64,6 +65,7 @@ def start_training(tmp_path: Path, *backend: str) -> subprocess.Popen[str]:
          "single", "--config", str(config), "--out", str(tmp_path / "run"), *backend],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
         start_new_session=True,  # a process group of its own, as a shell's job has
+        preexec_fn=sigint_as_in_a_terminal,
     )
 
 

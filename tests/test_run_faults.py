@@ -25,7 +25,7 @@ import fault_hook
 import numpy as np
 import pytest
 import yaml
-from run_support import snapshot
+from run_support import sigint_as_in_a_terminal, snapshot
 
 from mentor_core.cli import train as train_cli
 
@@ -81,7 +81,8 @@ def run_hooked(
 ) -> subprocess.Popen[str]:
     cmd = [sys.executable, str(HOOK), str(event), sig, str(out), "--",
            *argv(config, framework, out)]  # fmt: skip
-    return subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=sigint_as_in_a_terminal)  # fmt: skip
 
 
 # (framework, signal, where): at "any" write point, at one of the "final" phase, inside the
