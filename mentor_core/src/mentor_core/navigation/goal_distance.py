@@ -98,32 +98,41 @@ class GoalDistance:
         if len(corners):
             # a point that sees into the disc goes straight; the others need the corners
             around = np.flatnonzero(~np.isfinite(best))
-            if _first_corners_numba is not None:
+            if _first_corners_numba is None:  # the fallback, and the tests' reference
+                self._first_corners_numpy(q, around, best, corner)
+            else:
                 dist = np.empty(len(around))
                 k = np.empty(len(around), dtype=np.int64)
                 _first_corners_numba(np.ascontiguousarray(q[around]), corners, self._via,
                                      self.graph.shrunk, dist, k)  # fmt: skip
                 best[around] = dist
                 corner[around] = k
-                around = around[:0]
-            for chunk in np.array_split(around, max(1, len(around) * len(corners) // 100_000)):
-                if not len(chunk):
-                    continue
-                a = np.repeat(q[chunk], len(corners), axis=0)
-                b = np.tile(corners, (len(chunk), 1))
-                seen = self.graph.visible(a, b).reshape(len(chunk), len(corners))
-                diff = a - b
-                d = np.sqrt(diff[:, 0] * diff[:, 0] + diff[:, 1] * diff[:, 1])
-                d = d.reshape(len(chunk), len(corners))
-                total = np.where(seen, d + self._via[None, :], np.inf)
-                k = total.argmin(axis=1)
-                shortest = total[np.arange(len(chunk)), k]
-                better = shortest < best[chunk]
-                best[chunk] = np.where(better, shortest, best[chunk])
-                corner[chunk] = np.where(better, k, corner[chunk])
         out[free] = best
         first[free] = corner
         return out, first
+
+    def _first_corners_numpy(
+        self, q: FloatArray, around: NDArray[np.int64], best: FloatArray,
+        corner: NDArray[np.int64],
+    ) -> None:  # fmt: skip
+        """The numpy twin of :func:`_first_corner` for the points ``q[around]``: every corner
+        tested; lowers ``best`` and sets ``corner`` where a way round is shorter."""
+        corners = self.graph.nodes
+        for chunk in np.array_split(around, max(1, len(around) * len(corners) // 100_000)):
+            if not len(chunk):
+                continue
+            a = np.repeat(q[chunk], len(corners), axis=0)
+            b = np.tile(corners, (len(chunk), 1))
+            seen = self.graph.visible(a, b).reshape(len(chunk), len(corners))
+            diff = a - b
+            d = np.sqrt(diff[:, 0] * diff[:, 0] + diff[:, 1] * diff[:, 1])
+            d = d.reshape(len(chunk), len(corners))
+            total = np.where(seen, d + self._via[None, :], np.inf)
+            k = total.argmin(axis=1)
+            shortest = total[np.arange(len(chunk)), k]
+            better = shortest < best[chunk]
+            best[chunk] = np.where(better, shortest, best[chunk])
+            corner[chunk] = np.where(better, k, corner[chunk])
 
 
 def _first_corner(

@@ -68,8 +68,8 @@ class VisibilityGraph:
         b = np.asarray(world.obstacles, dtype=np.float64).reshape(-1, 4)
         grown = b + np.array([-radius, -radius, radius, radius])
         self.boxes: FloatArray = grown
-        # what the tests compare with: the grown boxes' open interiors less EPSILON, and the
-        # arena's free square widened by it
+        # what free() and visible() test against: the grown boxes' open interiors less
+        # EPSILON, and the arena's free square widened by it (the compiled twins read them)
         self.shrunk: FloatArray = grown + np.array([EPSILON, EPSILON, -EPSILON, -EPSILON])
         self.bounds = (self.radius - EPSILON, world.size - self.radius + EPSILON)
         corners = np.concatenate([grown[:, [0, 1]], grown[:, [2, 1]],

@@ -135,10 +135,11 @@ def _pack(ways: Sequence[tuple[GoalDistance, ...] | None]) -> Packed:
     whether the goal is reachable."""
     levels = max((len(w) for w in ways if w is not None), default=0)
     number = np.full((len(ways), levels), -1, dtype=np.int64)
-    flat = [way for w in ways if w is not None for way in w]
+    flat: list[GoalDistance] = []
     for s, w in enumerate(ways):
         if w is not None:
-            number[s, : len(w)] = np.arange(len(w)) + sum(len(v or ()) for v in ways[:s])
+            number[s, : len(w)] = np.arange(len(flat), len(flat) + len(w))
+            flat += w
     box_at = np.cumsum([0] + [len(g.graph.shrunk) for g in flat]).astype(np.int64)
     node_at = np.cumsum([0] + [len(g.graph.nodes) for g in flat]).astype(np.int64)
     boxes = np.concatenate([g.graph.shrunk for g in flat]) if flat else np.zeros((0, 4))
