@@ -17,6 +17,7 @@ from mentor_core.cli.bench import main as bench_main
 from mentor_core.cli.report import main as report_main
 from mentor_core.errors import FileFormatError
 from mentor_core.report.bench import bench_markdown, seed_groups
+from mentor_core.training.config import shipped_config
 
 ROOT = Path(__file__).resolve().parents[1]
 UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
@@ -87,6 +88,8 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
         (["missing.json", "--robot", "ugv"], "missing.json"),
         ([str(UGV_GENOME), "--robot", "swarm"], "ugv_reference_genome.json"),
         ([str(UGV_GENOME), str(UGV_GENOME), "--robot", "ugv"], "same label"),
+        (["--robot", "ugv", "--baseline-limits", "fast"], "--baseline-limits: expected"),
+        (["--robot", "ugv", "--baseline-limits", "shipped,shipped"], "--baseline-limits"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
@@ -104,6 +107,22 @@ def test_out_must_not_be_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[st
                        "--out", str(target)]) == 2  # fmt: skip
     assert target.read_text() == "keep me"
     assert "not a directory" in capsys.readouterr().err
+
+
+def test_baselines_act_within_the_reference_or_the_shipped_limits(tmp_path: Path) -> None:
+    out = tmp_path / "limits"
+    code = bench_main(["--robot", "ugv", "--families", "doe", "--pairs-per-family", "1",
+                       "--baselines", "vfh", "--no-oracle", "--baseline-limits",
+                       "reference,shipped", "--out", str(out)])  # fmt: skip
+    assert code == 0
+    doc = load_bench(out / "bench.json")
+    assert [c["name"] for c in doc["contenders"]] == ["vfh", "vfh-shipped"]
+    reference, shipped = (c["settings"] for c in doc["contenders"])
+    assert reference["step_max"] == doc["reference"]["step_max"] == 0.5
+    assert shipped["step_max"] == shipped_config("ugv").step_max
+    md = (out / "bench.md").read_text()
+    assert "| `vfh` | baseline | 0.02-0.5 m, ±45° | paper |" in md
+    assert f"| `vfh-shipped` | baseline | 0.02-{shipped['step_max']:.3g} m, ±45° |" in md
 
 
 def test_seeds_of_a_planner_are_summarised_beside_the_baselines(

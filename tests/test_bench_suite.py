@@ -17,6 +17,7 @@ from mentor_core.benchmark.suite import (
     build_suite,
     reference_profile,
     scaled_limit,
+    shipped_limits,
     top_pace,
     world_pairs,
 )
@@ -25,6 +26,8 @@ from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.scenarios import CLEARANCE_FACTOR
+from mentor_core.training.config import shipped_config
+from mentor_core.training.trainer import make_problem
 
 
 @pytest.mark.parametrize("family", sorted(FAMILIES))
@@ -77,6 +80,20 @@ def test_scaled_limit_formula() -> None:
     assert scaled_limit(10.0, ugv) == pytest.approx(2 * 10.0 / 0.5 + 4.0)
     swarm = reference_profile(get_profile("swarm"))  # steps <= 0.08 m
     assert scaled_limit(1.0, swarm) == pytest.approx(2 * 1.0 / 0.08 + 4.0)
+
+
+@pytest.mark.parametrize("robot", ["ugv", "swarm"])
+def test_shipped_limits_are_those_the_shipped_planners_train_with(robot: str) -> None:
+    profile = get_profile(robot)
+    trained = make_problem(shipped_config(robot)).profile
+    limits = shipped_limits(profile)
+    for key in ("input_encoding", "heading_change_max", "step_min", "step_max",
+                "clearance_margin"):  # fmt: skip
+        assert getattr(limits, key) == getattr(trained, key), key
+    # the reference stays frozen whatever the shipped configs say
+    assert reference_profile(profile).heading_change_max == pytest.approx(math.pi / 4)
+    with pytest.raises(ValueError, match="no shipped config 'paper' for robot 'tank'"):
+        shipped_config("tank")
 
 
 def test_splits_are_disjoint_and_a_larger_suite_extends_a_smaller_one() -> None:

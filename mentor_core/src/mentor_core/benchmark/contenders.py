@@ -104,10 +104,12 @@ HAND_WRITTEN: dict[str, tuple[Kind, PolicyMaker]] = {
 }
 
 
-def hand_written(name: str, reference: RobotProfile) -> Contender:
-    """The baseline or oracle ``name`` acting with the reference planner's limits."""
+def hand_written(name: str, limits: RobotProfile, label: str = "") -> Contender:
+    """The baseline or oracle ``name`` acting within the action limits of ``limits`` (the
+    benchmark's reference planner, or the shipped planners': ``benchmark.suite``), named
+    ``label`` (default ``name``)."""
     kind, maker = HAND_WRITTEN[name]
-    return Contender(name, kind, reference, maker)
+    return Contender(label or name, kind, limits, maker)
 
 
 def evolved(path: str | Path, robot: RobotProfile, name: str = "") -> Contender:

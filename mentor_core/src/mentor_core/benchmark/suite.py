@@ -26,10 +26,12 @@ path, ``T = 2 l / v + (pi / h) dt``: twice the time the shortest path takes at t
 
 **Reference planner**: the action limits of the planners shipped when the benchmark was
 made (issue 15): heading change +-45 deg, UGV steps 0.02-0.5 m with a 0.2 m clearance margin,
-Swarm-Robot steps 0.01-0.08 m with 0.05 m, egocentric inputs. The baselines and the oracle
-act within them, and they set the feasibility bound and the scaled limits, so neither changes
-when the shipped training configs do. An evolved planner runs with its own (its genome's
-metadata), as ``mentor-eval`` runs it.
+Swarm-Robot steps 0.01-0.08 m with 0.05 m, egocentric inputs. They set the feasibility
+bound and the scaled limits, so neither changes when the shipped training configs do, and
+the oracle acts within them. The baselines act within them too, or within the limits of the
+robot's shipped training config (:func:`shipped_limits`, ``mentor-bench --baseline-limits``),
+so that they can act as the shipped planners do once those differ. An evolved planner runs
+with its own (its genome's metadata), as ``mentor-eval`` runs it.
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ from mentor_core.navigation.pairs import (
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, with_planner
 from mentor_core.sim.world import Scenario, World
+from mentor_core.training.config import shipped_config
 
 SPLITS = {"validation": 0, "test": 1_000_000}
 PAIRS_PER_WORLD = 5
@@ -99,6 +102,19 @@ def reference_profile(robot: RobotProfile) -> RobotProfile:
     the benchmark does not know keeps its own."""
     settings = _REFERENCE.get(robot.name, {})
     return with_planner(robot, **settings, source="benchmark reference planner")
+
+
+#: the planner settings that make a planner's action limits (the reference planner's keys)
+LIMIT_KEYS = ("input_encoding", "heading_change_max", "step_max", "step_min", "clearance_margin")
+
+
+def shipped_limits(robot: RobotProfile) -> RobotProfile:
+    """``robot`` with the action limits of its shipped paper-scale training config
+    (``train_<robot>_paper.yaml``): those the shipped planners act with, for baselines that
+    act as they do. ValueError for a robot without a shipped config."""
+    settings = shipped_config(robot.name).planner_settings()
+    chosen = {key: settings[key] for key in LIMIT_KEYS}
+    return with_planner(robot, **chosen, source=f"train_{robot.name}_paper.yaml")
 
 
 def top_pace(profile: RobotProfile) -> float:

@@ -32,12 +32,15 @@ from mentor_core.benchmark.contenders import (
 )
 from mentor_core.benchmark.document import bench_document
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
-from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile
+from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile, shipped_limits
 from mentor_core.cli.arguments import rotation_shim_threshold
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, get_profile
+
+#: where the baselines' action limits come from (``--baseline-limits``)
+LIMIT_SOURCES = ("reference", "shipped")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -52,6 +55,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--baselines", default=",".join(n for n, (k, _) in HAND_WRITTEN.items()
                                                    if k == "baseline"),
                    help="comma-separated baselines, or 'none' (default vfh,bug)")  # fmt: skip
+    p.add_argument("--baseline-limits", default="reference",
+                   help="comma-separated: the action limits the baselines act within, "
+                        "'reference' (the benchmark's reference planner's, frozen) and/or "
+                        "'shipped' (those of the robot's shipped training config, as its "
+                        "shipped planners; named <baseline>-shipped) (default reference)")
     p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
     p.add_argument("--scan-map", action="store_true",
                    help="also run each planner but the oracle steering to a plan on the map of "
@@ -83,10 +91,30 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
             known = ", ".join(n for n, (k, _) in HAND_WRITTEN.items() if k == "baseline")
             raise MentorError(f"--baselines: unknown baseline {name!r} (known: {known})")
     reference = reference_profile(robot)
-    chosen += [hand_written(n, reference) for n in names]
+    for source in _limit_sources(args.baseline_limits):
+        limits = reference if source == "reference" else _shipped_limits(robot)
+        suffix = "" if source == "reference" else f"-{source}"
+        chosen += [hand_written(n, limits, n + suffix) for n in names]
     if args.scan_map:
         chosen += [on_scan_map(c) for c in chosen]
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
+
+
+def _limit_sources(text: str) -> list[str]:
+    """The ``--baseline-limits`` list; MentorError for an unknown or repeated source."""
+    sources = [s.strip() for s in text.split(",") if s.strip()]
+    unknown = [s for s in sources if s not in LIMIT_SOURCES]
+    if unknown or not sources or len(set(sources)) != len(sources):
+        raise MentorError(f"--baseline-limits: expected distinct sources of "
+                          f"{', '.join(LIMIT_SOURCES)}, got {text!r}")  # fmt: skip
+    return sources
+
+
+def _shipped_limits(robot: RobotProfile) -> RobotProfile:
+    try:
+        return shipped_limits(robot)
+    except ValueError as err:
+        raise MentorError(f"--baseline-limits shipped: {one_line(err)}") from None
 
 
 def table(results: list[ContenderResult], families: tuple[str, ...], limit: str) -> str:

@@ -19,19 +19,22 @@ import argparse
 import contextlib
 import json
 import sys
-from importlib import resources
 from pathlib import Path
 
 from mentor_core.cli.arguments import Parser, fail, seed
 from mentor_core.cli.stopping import EXIT_SIGTERM, Terminated, sigterm_raises
 from mentor_core.errors import MentorError
-from mentor_core.training.config import TrainerConfig, config_schema, load_config_file
+from mentor_core.training.config import (
+    SHIPPED,
+    TrainerConfig,
+    config_schema,
+    load_config_file,
+    shipped_config,
+)
 from mentor_core.training.evaluators import make_evaluator
 from mentor_core.training.progress import GenerationProgress
 from mentor_core.training.run_directory import open_run
 from mentor_core.training.trainer import make_problem, train
-
-SHIPPED = ("quick", "paper", "original")
 
 
 def resolve_config(robot: str, framework: str, config: str | None) -> TrainerConfig:
@@ -47,9 +50,7 @@ def resolve_run(
     name = config or "paper"
     seed = None
     if name in SHIPPED:
-        ref = resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"
-        with resources.as_file(ref) as path:
-            base = TrainerConfig.from_yaml(path)
+        base = shipped_config(robot, name)
     else:
         base, seed = load_config_file(Path(name))
     data = base.to_dict()

@@ -167,6 +167,12 @@ def _seed_table(doc: Mapping[str, Any], limit: str) -> list[str]:
     return _md_table(header, rows)
 
 
+def _limits(settings: Mapping[str, Any]) -> str:
+    """A planner's action limits: its step range and largest turn per decision."""
+    turn = math.degrees(float(settings["heading_change_max"]))
+    return f"{settings['step_min']:.3g}-{settings['step_max']:.3g} m, ±{turn:.3g}°"
+
+
 def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "bench",
                    heading: str = "##") -> list[str]:
     """Write the figures into ``out_dir`` (``<prefix>_success.png``, ``<prefix>_success_
@@ -202,10 +208,11 @@ def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "b
     for c in doc["contenders"]:
         for limit in ("paper", "scaled"):
             s = c["scores"][limit]["overall"]
-            rows.append([f"`{c['name']}`", c["kind"], limit, _pct(_none_nan(s["success"])),
-                         _pct(_none_nan(s["collision"])), _pct(_none_nan(s["timeout"])),
-                         _fmt(_none_nan(s["time_to_goal"]), 1), _fmt(_none_nan(s["spl"]), 3)])
-    md += _md_table(["planner", "kind", "limit", "success", "collisions", "timeouts",
-                     "time to goal (s)", "SPL"], rows)  # fmt: skip
+            rows.append([f"`{c['name']}`", c["kind"], _limits(c["settings"]), limit,
+                         _pct(_none_nan(s["success"])), _pct(_none_nan(s["collision"])),
+                         _pct(_none_nan(s["timeout"])), _fmt(_none_nan(s["time_to_goal"]), 1),
+                         _fmt(_none_nan(s["spl"]), 3)])  # fmt: skip
+    md += _md_table(["planner", "kind", "steps, turns", "limit", "success", "collisions",
+                     "timeouts", "time to goal (s)", "SPL"], rows)  # fmt: skip
     md += [f"![example trajectories]({prefix}_trajectories.png)", ""]
     return md

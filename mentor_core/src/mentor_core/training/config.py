@@ -13,7 +13,9 @@ FileFormatError. :func:`config_schema` is the JSON schema of a config file, for 
 
 from __future__ import annotations
 
+import math
 from dataclasses import field
+from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -187,6 +189,22 @@ class TrainerConfig:
             ("single", self.generations - self.stage1_generations),
         ]
 
+    def planner_settings(self) -> dict[str, Any]:
+        """The planner settings a network trained with this config acts with, as
+        ``mentor_core.sim.robots.with_planner``'s keyword arguments (angles in rad; None:
+        the robot's own)."""
+        turn, shim = self.heading_change_max_deg, self.rotation_shim_deg
+        return {
+            "input_encoding": self.input_encoding,
+            "heading_change_max": None if turn is None else math.radians(turn),
+            "step_max": self.step_max,
+            "step_min": self.step_min,
+            "clearance_margin": self.clearance_margin,
+            "feedback_action": self.feedback_action,
+            "memory_units": self.memory_units,
+            "rotation_shim": None if shim is None else math.radians(shim),
+        }
+
     def to_dict(self) -> dict[str, Any]:
         """A plain dict that :meth:`from_dict` turns back into an equal config."""
         plain: dict[str, Any] = to_plain(self)
@@ -231,6 +249,20 @@ def load_config_file(path: str | Path) -> tuple[TrainerConfig, int | None]:
         data = dict(data)
         seed = validate(_RunSeed, {"seed": data.pop("seed")}, path).seed
     return TrainerConfig.from_dict(data, path), seed
+
+
+#: the configs shipped with mentor_core, ``configs/train_<robot>_<name>.yaml``
+SHIPPED = ("quick", "paper", "original")
+
+
+def shipped_config(robot: str, name: str = "paper") -> TrainerConfig:
+    """The shipped config ``name`` (one of :data:`SHIPPED`) of ``robot``; ValueError for a
+    name or robot without one."""
+    ref = resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"
+    if name not in SHIPPED or not ref.is_file():
+        raise ValueError(f"no shipped config {name!r} for robot {robot!r}")
+    with resources.as_file(ref) as path:
+        return TrainerConfig.from_yaml(path)
 
 
 def config_schema() -> dict[str, Any]:

@@ -97,21 +97,8 @@ def make_problem(
 
     ConfigError naming ``source`` (the config file) for planner settings outside the robot's
     own ranges and more training worlds than scenarios."""
-    limit = config.heading_change_max_deg
     robot = profile or get_profile(config.robot)
-    prof = with_planner(
-        robot,
-        input_encoding=config.input_encoding,
-        heading_change_max=None if limit is None else math.radians(limit),
-        step_max=config.step_max,
-        step_min=config.step_min,
-        clearance_margin=config.clearance_margin,
-        feedback_action=config.feedback_action,
-        memory_units=config.memory_units,
-        rotation_shim=(None if config.rotation_shim_deg is None
-                       else math.radians(config.rotation_shim_deg)),
-        source=source,
-    )  # fmt: skip
+    prof = with_planner(robot, **config.planner_settings(), source=source)
     if config.turn_frame == "goal" and config.input_encoding != "egocentric":
         raise ConfigError(
             "turns relative to the goal need input_encoding: egocentric", key="turn_frame",
