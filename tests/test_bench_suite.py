@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 
+from mentor_core.benchmark import suite
 from mentor_core.benchmark.suite import (
     FEASIBLE_SHARE,
     PAIRS_PER_WORLD,
@@ -26,7 +27,7 @@ from mentor_core.navigation.shortest_path import VisibilityGraph
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.scenarios import CLEARANCE_FACTOR
-from mentor_core.training.config import shipped_config
+from mentor_core.training.config import TrainerConfig, shipped_config
 from mentor_core.training.trainer import make_problem
 
 
@@ -94,6 +95,20 @@ def test_shipped_limits_are_those_the_shipped_planners_train_with(robot: str) ->
     assert reference_profile(profile).heading_change_max == pytest.approx(math.pi / 4)
     with pytest.raises(ValueError, match="no shipped config 'paper' for robot 'tank'"):
         shipped_config("tank")
+
+
+def test_shipped_limits_follow_the_shipped_config_away_from_the_reference(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    ugv = get_profile("ugv")
+    data = shipped_config("ugv").to_dict() | {"step_max": 0.75, "heading_change_max_deg": 30}
+    monkeypatch.setattr(suite, "shipped_config", lambda robot: TrainerConfig.from_dict(data))
+    limits = shipped_limits(ugv)
+    assert limits.step_max == 0.75
+    assert limits.heading_change_max == pytest.approx(math.pi / 6)
+    reference = reference_profile(ugv)  # frozen
+    assert reference.step_max == 0.5
+    assert reference.heading_change_max == pytest.approx(math.pi / 4)
 
 
 def test_splits_are_disjoint_and_a_larger_suite_extends_a_smaller_one() -> None:
