@@ -27,7 +27,8 @@ UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
 def bench_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("bench") / "ugv"
     code = bench_main([str(UGV_GENOME), "--label", "ref", "--robot", "ugv", "--families",
-                       "slalom,traps", "--pairs-per-family", "2", "--out", str(out)])
+                       "slalom,traps", "--pairs-per-family", "2", "--baseline-limits",
+                       "reference", "--out", str(out)])  # fmt: skip
     assert code == 0
     return out
 
@@ -121,8 +122,25 @@ def test_baselines_act_within_the_reference_or_the_shipped_limits(tmp_path: Path
     assert reference["step_max"] == doc["reference"]["step_max"] == 0.5
     assert shipped["step_max"] == shipped_config("ugv").step_max
     md = (out / "bench.md").read_text()
-    assert "| `vfh` | baseline | 0.02-0.5 m, ±45° | paper |" in md
-    assert f"| `vfh-shipped` | baseline | 0.02-{shipped['step_max']:.3g} m, ±45° |" in md
+    assert "| `vfh` | baseline | 0.02-0.5 m, ±45° every 1 s | paper |" in md
+    assert (f"| `vfh-shipped` | baseline | 0.02-{shipped['step_max']:.3g} m, ±45° every "
+            f"{shipped['control_period']:.3g} s |") in md
+
+
+@pytest.mark.parametrize(("robot", "names"), [("ugv", ["vfh", "vfh-shipped"]),
+                                               ("swarm", ["vfh"])])
+def test_by_default_baselines_also_act_as_the_shipped_planners_where_they_differ(
+    tmp_path: Path, robot: str, names: list[str]
+) -> None:
+    """The shipped UGV planners decide every 0.5 s, the reference planner every 1 s: the
+    baselines run within both; the Swarm-Robot's shipped limits are the reference's."""
+    out = tmp_path / robot
+    assert bench_main(["--robot", robot, "--families", "doe", "--pairs-per-family", "1",
+                       "--baselines", "vfh", "--no-oracle", "--out", str(out)]) == 0
+    doc = load_bench(out / "bench.json")
+    assert [c["name"] for c in doc["contenders"]] == names
+    assert doc["contenders"][-1]["settings"]["control_period"] == (
+        shipped_config(robot).control_period or 1.0)
 
 
 def test_seeds_of_a_planner_are_summarised_beside_the_baselines(
@@ -150,7 +168,8 @@ def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -
     out = tmp_path / "mapped"
     code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
                        "rooms", "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
-                       "--scan-map", "--out", str(out)])  # fmt: skip
+                       "--baseline-limits", "reference", "--scan-map", "--out",
+                       str(out)])  # fmt: skip
     assert code == 0
     doc = load_bench(out / "bench.json")
     names = [c["name"] for c in doc["contenders"]]
@@ -168,7 +187,8 @@ def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(
     out = tmp_path / "shim"
     code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
                        "doe", "--pairs-per-family", "5", "--baselines", "vfh", "--no-oracle",
-                       "--rotation-shim", "45", "--out", str(out)])  # fmt: skip
+                       "--baseline-limits", "reference", "--rotation-shim", "45", "--out",
+                       str(out)])  # fmt: skip
     assert code == 0
     doc = load_bench(out / "bench.json")
     assert [c["name"] for c in doc["contenders"]] == ["ref-s1", "shim-ref-s1", "vfh"]

@@ -12,6 +12,7 @@ import pytest
 from mentor_core.benchmark import suite
 from mentor_core.benchmark.suite import (
     FEASIBLE_SHARE,
+    LIMIT_KEYS,
     PAIRS_PER_WORLD,
     PAPER_LIMIT,
     SPLITS,
@@ -88,8 +89,7 @@ def test_shipped_limits_are_those_the_shipped_planners_train_with(robot: str) ->
     profile = get_profile(robot)
     trained = make_problem(shipped_config(robot)).profile
     limits = shipped_limits(profile)
-    for key in ("input_encoding", "heading_change_max", "step_min", "step_max",
-                "clearance_margin"):  # fmt: skip
+    for key in LIMIT_KEYS:
         assert getattr(limits, key) == getattr(trained, key), key
     # the reference stays frozen whatever the shipped configs say
     assert reference_profile(profile).heading_change_max == pytest.approx(math.pi / 4)
@@ -101,12 +101,15 @@ def test_shipped_limits_follow_the_shipped_config_away_from_the_reference(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     ugv = get_profile("ugv")
-    data = shipped_config("ugv").to_dict() | {"step_max": 0.75, "heading_change_max_deg": 30}
+    data = shipped_config("ugv").to_dict() | {"step_max": 0.75, "heading_change_max_deg": 30,
+                                              "control_period": 0.5}
     monkeypatch.setattr(suite, "shipped_config", lambda robot: TrainerConfig.from_dict(data))
     limits = shipped_limits(ugv)
     assert limits.step_max == 0.75
     assert limits.heading_change_max == pytest.approx(math.pi / 6)
+    assert limits.control_period == 0.5
     reference = reference_profile(ugv)  # frozen
+    assert reference.control_period == ugv.control_period
     assert reference.step_max == 0.5
     assert reference.heading_change_max == pytest.approx(math.pi / 4)
 

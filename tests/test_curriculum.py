@@ -129,7 +129,9 @@ def test_shipped_configs_paper_and_original(robot: str) -> None:
     assert (original.pair_distances, original.time_budget) == ("paper", None)
     assert original.n_scenarios == get_profile(robot).train_scenarios  # Table I
     shipped = resolve_config(robot, "dual", "paper")
-    # issue 15, point 4: the UGV trains at the test's distances and budgets (60 pairs); the
-    # Swarm-Robot's paper draw already spans them
-    expected = ("test", 50.0, 60) if robot == "ugv" else ("paper", None, 20)
-    assert (shipped.pair_distances, shipped.time_budget, shipped.n_scenarios) == expected
+    # issue 15, point 4: the UGV trains at the test's distances (60 pairs), 50 decisions each
+    # (25 s at 0.5 s a decision); the Swarm-Robot's paper draw already spans them
+    expected = ("test", 25.0, 60, 0.5) if robot == "ugv" else ("paper", None, 20, None)
+    assert (shipped.pair_distances, shipped.time_budget, shipped.n_scenarios,
+            shipped.control_period) == expected
+    assert original.control_period is None

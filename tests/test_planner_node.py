@@ -3,6 +3,7 @@ Twists on stale or missing data; one-line errors for a corrupt genome or an unkn
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from pathlib import Path
@@ -372,6 +373,29 @@ def test_behind_a_rotation_shim_the_node_turns_onto_a_goal_behind_it_first(
     limit = planner.planner.profile.heading_change_max
     assert got.linear.x == pytest.approx(SWARM.step_min / SWARM.control_period)
     assert abs(got.angular.z) == pytest.approx(min(math.pi, limit) / SWARM.control_period)
+
+
+def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(
+    graph: Graph, tmp_path: Path
+) -> None:
+    """Its metadata's ``control_period`` is the node's default: a Twist then stands for
+    0.5 s of driving, as the genome was trained."""
+    doc = json.loads(GENOME.read_text())
+    doc["metadata"] |= {"heading_change_max": math.pi / 4, "step_max": 0.04,
+                        "control_period": 0.5}  # fmt: skip
+    fast = tmp_path / "fast.json"
+    fast.write_text(json.dumps(doc))
+    planner = _planner(graph, genome=str(fast))
+    assert planner.control_period == 0.5
+    robot = Robot(graph)
+    reference = GenomePlanner.load(fast, "swarm")
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
+    pose = (1.4, 1.1, 2.0)
+    assert graph.spin_until(lambda: robot.observe(10**9, [0.5, 0.5, 0.5], pose)
+                            or len(robot.commands) > 0)  # fmt: skip
+    got = robot.commands[0]
+    dtheta, ds = reference.decide([0.5, 0.5, 0.5], pose, (1.0, 1.0))
+    assert (got.linear.x, got.angular.z) == pytest.approx((ds / 0.5, dtheta / 0.5))
 
 
 def test_a_rotation_shim_beyond_a_half_turn_is_refused(graph: Graph) -> None:

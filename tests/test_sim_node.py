@@ -452,6 +452,14 @@ def test_parameters_that_change_at_run_time(graph: Graph, world_file: Path) -> N
     assert [d.read_only for d in descriptors] == [False, False, True]
 
 
+def test_the_simulator_decides_at_the_planners_period(graph: Graph, world_file: Path) -> None:
+    """A planner whose genome decides every 0.5 s (metadata ``control_period``) sends Twists
+    that stand for 0.5 s: the simulator steps at that period when told to."""
+    assert _sim(graph, world=str(world_file), auto_advance=False).session.dt == 1.0
+    sim = _sim(graph, world=str(world_file), auto_advance=False, control_period=0.5)
+    assert sim.session.dt == 0.5
+
+
 def test_an_unparsable_parameter_value_is_one_line_and_exit_2() -> None:
     """Failed before: a traceback and exit status 1."""
     rc, err = run_executable(

@@ -19,6 +19,7 @@ from mentor_core import (
     MentorError,
     RobotProfile,
     Transform2D,
+    genome_control_period,
     get_profile,
 )
 
@@ -63,7 +64,8 @@ def _declarations() -> list[tuple[str, Any, Any]]:
     return [
         ("genome", "", _descriptor("genome JSON file ('' : answer zero Twists)")),
         ("profile", "ugv", _descriptor("robot profile (robots.yaml)")),
-        ("control_period", 0.0, _descriptor("s per decision (0: the profile's)", low=0.0)),
+        ("control_period", 0.0,
+         _descriptor("s per decision (0: the genome's, else the profile's)", low=0.0)),
         (
             "stale_timeout",
             0.0,
@@ -128,11 +130,14 @@ def _transform(values: Mapping[str, Any], key: str) -> Transform2D:
         raise PlannerSetupError(f"{key}: {err}") from None
 
 
-def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
-    """The parameters ``values`` (name -> value, all) checked. PlannerSetupError (a
-    ConfigError for an unknown profile)."""
+def check_parameters(
+    values: Mapping[str, Any], trained_period: float | None = None
+) -> PlannerParameters:
+    """The parameters ``values`` (name -> value, all) checked; ``trained_period`` (s): the
+    genome's control period, the default of ``control_period`` (else the profile's).
+    PlannerSetupError (a ConfigError for an unknown profile)."""
     profile = get_profile(str(values["profile"]))
-    period = float(values["control_period"]) or profile.control_period
+    period = float(values["control_period"]) or trained_period or profile.control_period
     stale = float(values["stale_timeout"]) or STALE_PERIODS * period
     if stale <= period:
         raise PlannerSetupError(
@@ -166,7 +171,11 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
 def declare_parameters(node: Node) -> PlannerParameters:
     """Declare the node's parameters and check them."""
     declared = node.declare_parameters("", _declarations())
-    return check_parameters({p.name: p.value for p in declared})
+    values = {p.name: p.value for p in declared}
+    genome = str(values["genome"])
+    # a genome trained to decide more often than its robot sets the default period
+    trained = genome_control_period(genome, str(values["profile"])) if genome else None
+    return check_parameters(values, trained)
 
 
 def check_goal_radius(value: Any, profile: RobotProfile) -> tuple[float, str]:

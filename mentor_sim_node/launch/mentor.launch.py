@@ -21,6 +21,8 @@ from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
+from mentor_core import genome_control_period
+
 ARGUMENTS = {
     "robots": "robot_0",
     "profile": "ugv",
@@ -44,6 +46,8 @@ def _nodes(context: LaunchContext) -> list[Node]:
     rays = int(value["lidar_rays"])
     continuous = _truth(value["continuous"])
     rate = float(value["real_time_factor"]) or (1.0 if continuous else 0.0)
+    # the simulator steps at the period the genome decides at (its metadata; 0: the profile's)
+    period = genome_control_period(value["genome"], value["profile"]) if value["genome"] else 0.0
     nodes = [
         Node(
             package="mentor_sim_node",
@@ -58,6 +62,7 @@ def _nodes(context: LaunchContext) -> list[Node]:
                 "continuous": continuous,
                 "real_time_factor": rate,
                 "wait_for_goals": _truth(value["wait_for_goals"]),
+                "control_period": period,
             }],
         )
     ]

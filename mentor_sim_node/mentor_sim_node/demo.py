@@ -141,9 +141,14 @@ def main(argv: list[str] | None = None) -> None:
         planners.append((f"/{name}", {"genome": genome, "profile": profile}))
     from rclpy.exceptions import ParameterException
 
-    from mentor_core import MentorError
+    from mentor_core import MentorError, genome_control_period
 
     try:
+        # the simulator steps at the period the genomes decide at (their metadata)
+        periods = {genome_control_period(p["genome"], p["profile"]) for _, p in planners}
+        if len(periods) != 1:
+            sys.exit(f"demo: the genomes decide at different periods {sorted(periods)} s")
+        sim["control_period"] = periods.pop()
         outcomes = run_graph(sim, planners, opts.timeout, args=["demo", *all_args])
     except (MentorError, ValueError, ParameterException) as err:
         sys.exit(f"demo: {' '.join(str(err).split())}")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
@@ -93,6 +93,15 @@ def _declarations() -> list[tuple[str, Any, ParameterDescriptor]]:
             0.0,
             _descriptor(
                 "episode time limit, s (0: the profile's time budget T_tot)",
+                floating_point_range=_at_least(0.0),
+            ),
+        ),
+        (
+            "control_period",
+            0.0,
+            _descriptor(
+                "s per decision (0: the profiles'); set it to the planners' when their "
+                "genomes decide more often (metadata control_period)",
                 floating_point_range=_at_least(0.0),
             ),
         ),
@@ -245,6 +254,9 @@ def check_parameters(values: Mapping[str, Any], node_name: str) -> SimParameters
             f"profiles: {len(profiles)} given for {len(names)} robots (give 1 or one each)"
         )
     robots = tuple((n, get_profile(p)) for n, p in zip(names, profiles, strict=True))
+    period = float(values["control_period"])
+    if period > 0.0:  # the planners' period: a Twist then stands for period seconds
+        robots = tuple((n, replace(p, control_period=period)) for n, p in robots)
     periods = {profile.control_period for _, profile in robots}
     if len(periods) != 1:
         raise SimSetupError(f"profiles: robots decide at different periods {sorted(periods)}")

@@ -109,6 +109,7 @@ _EXPORTS: dict[str, str] = {
     "assess": "mentor_core.training.assessment",
     # runtime
     "GenomePlanner": "mentor_core.runtime.planner",
+    "genome_control_period": "mentor_core.runtime.planner",
     "DecisionGate": "mentor_core.runtime.planner",
     "ReferenceSimulator": "mentor_core.runtime.simulator",
     "Event": "mentor_core.runtime.simulator",
@@ -292,6 +293,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.planner import (
         GenomePlanner as GenomePlanner,
+    )
+    from mentor_core.runtime.planner import (
+        genome_control_period as genome_control_period,
     )
     from mentor_core.runtime.planner_frames import (
         PlannerFrames as PlannerFrames,

@@ -37,7 +37,7 @@ _RESULT_KEYS = ("reached", "collided", "time", "trajectory")
 
 
 def settings(profile: RobotProfile) -> dict[str, Any]:
-    """A planner's action limits and input encoding, as plain values (rad, m)."""
+    """A planner's action limits and input encoding, as plain values (rad, m, s)."""
     return {
         "input_encoding": profile.input_encoding,
         "heading_change_max": profile.heading_change_max,
@@ -47,6 +47,7 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         "feedback_action": profile.feedback_action,
         "memory_units": profile.memory_units,
         **({} if profile.rotation_shim is None else {"rotation_shim": profile.rotation_shim}),
+        "control_period": profile.control_period,
     }
 
 

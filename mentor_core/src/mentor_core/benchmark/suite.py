@@ -105,7 +105,8 @@ def reference_profile(robot: RobotProfile) -> RobotProfile:
 
 
 #: the planner settings that make a planner's action limits (the reference planner's keys)
-LIMIT_KEYS = ("input_encoding", "heading_change_max", "step_max", "step_min", "clearance_margin")
+LIMIT_KEYS = ("input_encoding", "heading_change_max", "step_max", "step_min", "clearance_margin",
+              "control_period")
 
 
 def shipped_limits(robot: RobotProfile) -> RobotProfile:

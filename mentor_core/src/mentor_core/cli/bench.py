@@ -32,7 +32,13 @@ from mentor_core.benchmark.contenders import (
 )
 from mentor_core.benchmark.document import bench_document
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
-from mentor_core.benchmark.suite import SPLITS, build_suite, reference_profile, shipped_limits
+from mentor_core.benchmark.suite import (
+    LIMIT_KEYS,
+    SPLITS,
+    build_suite,
+    reference_profile,
+    shipped_limits,
+)
 from mentor_core.cli.arguments import rotation_shim_threshold
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
@@ -55,11 +61,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--baselines", default=",".join(n for n, (k, _) in HAND_WRITTEN.items()
                                                    if k == "baseline"),
                    help="comma-separated baselines, or 'none' (default vfh,bug)")  # fmt: skip
-    p.add_argument("--baseline-limits", default="reference",
+    p.add_argument("--baseline-limits", default="auto",
                    help="comma-separated: the action limits the baselines act within, "
                         "'reference' (the benchmark's reference planner's, frozen) and/or "
                         "'shipped' (those of the robot's shipped training config, as its "
-                        "shipped planners; named <baseline>-shipped) (default reference)")
+                        "shipped planners; named <baseline>-shipped); default 'auto': the "
+                        "reference, and the shipped ones too where they differ from it")
     p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
     p.add_argument("--scan-map", action="store_true",
                    help="also run each planner but the oracle steering to a plan on the map of "
@@ -91,7 +98,7 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
             known = ", ".join(n for n, (k, _) in HAND_WRITTEN.items() if k == "baseline")
             raise MentorError(f"--baselines: unknown baseline {name!r} (known: {known})")
     reference = reference_profile(robot)
-    for source in _limit_sources(args.baseline_limits):
+    for source in _limit_sources(args.baseline_limits, robot, reference):
         limits = reference if source == "reference" else _shipped_limits(robot)
         suffix = "" if source == "reference" else f"-{source}"
         chosen += [hand_written(n, limits, n + suffix) for n in names]
@@ -100,8 +107,16 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
 
 
-def _limit_sources(text: str) -> list[str]:
-    """The ``--baseline-limits`` list; MentorError for an unknown or repeated source."""
+def _limit_sources(text: str, robot: RobotProfile, reference: RobotProfile) -> list[str]:
+    """The ``--baseline-limits`` list (``auto``: the reference, and the shipped limits where
+    any of them differs from it); MentorError for an unknown or repeated source."""
+    if text == "auto":
+        try:
+            shipped = shipped_limits(robot)
+        except ValueError:  # a robot without a shipped config
+            return ["reference"]
+        differ = any(getattr(shipped, k) != getattr(reference, k) for k in LIMIT_KEYS)
+        return ["reference", "shipped"] if differ else ["reference"]
     sources = [s.strip() for s in text.split(",") if s.strip()]
     unknown = [s for s in sources if s not in LIMIT_SOURCES]
     if unknown or not sources or len(set(sources)) != len(sources):

@@ -167,10 +167,14 @@ def _seed_table(doc: Mapping[str, Any], limit: str) -> list[str]:
     return _md_table(header, rows)
 
 
-def _limits(settings: Mapping[str, Any]) -> str:
-    """A planner's action limits: its step range and largest turn per decision."""
+def _limits(settings: Mapping[str, Any], period: float) -> str:
+    """A planner's action limits: its step range and largest turn per decision, and its
+    control period (``period``, the reference's, where a document written before it was
+    recorded per planner lacks it)."""
     turn = math.degrees(float(settings["heading_change_max"]))
-    return f"{settings['step_min']:.3g}-{settings['step_max']:.3g} m, ±{turn:.3g}°"
+    period = float(settings.get("control_period", period))
+    return (f"{settings['step_min']:.3g}-{settings['step_max']:.3g} m, ±{turn:.3g}° "
+            f"every {period:.3g} s")
 
 
 def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "bench",
@@ -205,14 +209,15 @@ def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "b
     md += [f"![success per family]({prefix}_success.png)", "",
            f"![success per family, scaled limit]({prefix}_success_scaled.png)", ""]
     rows = []
+    period = float(doc["control_period"])
     for c in doc["contenders"]:
         for limit in ("paper", "scaled"):
             s = c["scores"][limit]["overall"]
-            rows.append([f"`{c['name']}`", c["kind"], _limits(c["settings"]), limit,
+            rows.append([f"`{c['name']}`", c["kind"], _limits(c["settings"], period), limit,
                          _pct(_none_nan(s["success"])), _pct(_none_nan(s["collision"])),
                          _pct(_none_nan(s["timeout"])), _fmt(_none_nan(s["time_to_goal"]), 1),
                          _fmt(_none_nan(s["spl"]), 3)])  # fmt: skip
-    md += _md_table(["planner", "kind", "steps, turns", "limit", "success", "collisions",
+    md += _md_table(["planner", "kind", "steps, turns, period", "limit", "success", "collisions",
                      "timeouts", "time to goal (s)", "SPL"], rows)  # fmt: skip
     md += [f"![example trajectories]({prefix}_trajectories.png)", ""]
     return md

@@ -82,7 +82,8 @@ def planner_profile(
     (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
     ``step_max`` and ``step_min`` (m; each the profile's when absent),
     ``clearance_margin`` (m; absent: none), ``feedback_action``, ``memory_units`` and
-    ``rotation_shim`` (rad) (absent: off, as every genome saved before they existed).
+    ``rotation_shim`` (rad) (absent: off, as every genome saved before they existed) and
+    ``control_period`` (s; absent: the robot's).
 
     ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
     (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
@@ -107,8 +108,17 @@ def planner_profile(
         feedback_action=metadata.get("feedback_action"),
         memory_units=metadata.get("memory_units"),
         rotation_shim=metadata.get("rotation_shim"),
+        control_period=metadata.get("control_period"),
         source=source,
     )
+
+
+def genome_control_period(genome_path: str | Path, profile_name: str) -> float:
+    """The control period (s) the genome in ``genome_path`` decides at on robot
+    ``profile_name``: its metadata's ``control_period``, the robot's where absent. The same
+    errors as :meth:`GenomePlanner.load`."""
+    _, metadata = load_genome_and_metadata(genome_path)
+    return planner_profile(get_profile(profile_name), metadata, genome_path).control_period
 
 
 class GenomePlanner:

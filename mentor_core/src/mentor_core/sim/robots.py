@@ -74,7 +74,8 @@ class RobotProfile:
             others read a single ray straight out. None: every sensor.
         heading_change_max: the heading change action lies in [-max, max], rad.
         step_min, step_max: the translation action lies in [step_min, step_max], m.
-        control_period: time of one decision, s.
+        control_period: time of one decision, s. The robot file's is the robot's; a planner
+            may decide more often (:func:`with_planner`), a planner's setting then.
         rated_speed: pace used for the time budget, m/s.
         goal_radius: a robot within this distance of the goal has reached it, m.
         time_budget_slack, time_budget_cap: see :meth:`time_budget`.
@@ -248,6 +249,7 @@ def with_planner(
     feedback_action: object = None,
     memory_units: object = None,
     rotation_shim: object = None,
+    control_period: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
@@ -256,12 +258,16 @@ def with_planner(
     :func:`mentor_core.sim.observation.clearance_limit`), whether it reads its previous action
     (a bool), its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
     :func:`mentor_core.sim.observation.next_context`) and its rotation shim's threshold (rad,
-    in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`) replaced where given (None keeps
-    the profile's).
+    in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`) and its control period (s, in
+    ``(0, profile.control_period]``) replaced where given (None keeps the profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
-    of a scenario (:meth:`RobotProfile.time_budget`) stays reachable.
+    of a scenario (:meth:`RobotProfile.time_budget`) stays reachable. A planner that decides
+    every ``control_period`` is rated ``profile.control_period / control_period`` times
+    faster again, so a budget holds as many decisions as before. Its pace
+    (``step_max / control_period``) and turn rate (``heading_change_max / control_period``)
+    may not pass the profile's: the robot must be able to drive a decision in its period.
 
     All of them belong to a planner, not to the robot: the trainer takes them from its config
     and writes them into the genome's metadata (``mentor_core.runtime.planner.planner_profile``).
@@ -321,7 +327,37 @@ def with_planner(
         changes["rotation_shim"] = _planner_number(
             rotation_shim, lambda v: 0.0 < v <= math.pi, "(0, pi] rad", "rotation_shim", where
         )
+    if control_period is not None:
+        changes.update(_planner_period(profile, changes, control_period, where))
     return dataclasses.replace(profile, **changes)
+
+
+def _planner_period(
+    profile: RobotProfile, changes: dict[str, Any], value: object, where: str | Path | None
+) -> dict[str, Any]:
+    """The changes a planner's control period ``value`` makes to ``profile`` with ``changes``
+    already made (:func:`with_planner`); ConfigError for a period outside ``(0,
+    profile.control_period]`` or one in which the robot cannot drive the planner's largest
+    decision."""
+    base = profile.control_period
+    period = _planner_number(value, lambda v: 0.0 < v <= base, f"(0, {base}] s",
+                             "control_period", where)  # fmt: skip
+    step = changes.get("step_max", profile.step_max)
+    turn = changes.get("heading_change_max", profile.heading_change_max)
+    tolerance = 1.0 + 1e-9
+    if step / period > profile.step_max / base * tolerance:
+        raise ConfigError(
+            f"{period} s is too short for steps of up to {step} m: the robot drives at most "
+            f"{profile.step_max / base:g} m/s", key="control_period", path=where,
+        )  # fmt: skip
+    if turn / period > profile.heading_change_max / base * tolerance:
+        raise ConfigError(
+            f"{period} s is too short for turns of up to {math.degrees(turn):g} deg: the robot "
+            f"turns at most {math.degrees(profile.heading_change_max / base):g} deg/s",
+            key="control_period", path=where,
+        )  # fmt: skip
+    rated = changes.get("rated_speed", profile.rated_speed)
+    return {"control_period": period, "rated_speed": rated * base / period}
 
 
 def _planner_number(

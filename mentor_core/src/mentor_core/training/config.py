@@ -146,6 +146,13 @@ class TrainerConfig:
     bearing is within this many degrees, then its network drives (Nav2's rotation shim;
     mentor_core.sim.rotation_shim; null: the network drives from the first decision, as in
     the paper); also written into the metadata."""
+    control_period: Annotated[Float, Field(gt=0.0)] | None = None
+    """When set, the planner decides every this many seconds, at most the robot's period, with
+    its pace (step_max per period) and turn rate within the robot's (null: the robot's period,
+    1 s as in the paper). The decisions are the same; only the time they take changes: a
+    time budget holds the same number of decisions when the config sets none (its rated speed
+    follows, mentor_core.sim.robots.with_planner), and ``time_budget`` is in seconds. Also
+    written into the metadata."""
     novelty_neighbours: Annotated[Int, Field(ge=1)] | None = None
     """When set, novelty search's sparseness over this many nearest behaviours (the final
     positions in every training scenario; mentor_core.objectives.novelty) is ranked as a third
@@ -203,6 +210,7 @@ class TrainerConfig:
             "feedback_action": self.feedback_action,
             "memory_units": self.memory_units,
             "rotation_shim": None if shim is None else math.radians(shim),
+            "control_period": self.control_period,
         }
 
     def to_dict(self) -> dict[str, Any]:

@@ -8,8 +8,8 @@ training arena's side, with ``family_pairs`` start/goal pairs each, drawn as the
 draws its pairs (:func:`mentor_core.navigation.pairs.solvable_pairs`): at the unseen test's
 straight distances ``[size / 4, min(d*, size sqrt 2)]`` (``d*`` the robot file's uncapped
 distance) and solvable for the body's circumscribed disc within what the planner can drive in
-the time-budget cap. :func:`unseen_distances` is that range, also used for the DoE's pairs when a
-config asks for ``pair_distances: test`` (issue 15, point 4).
+the time a training pair gets. :func:`unseen_distances` is that range, also used for the DoE's
+pairs when a config asks for ``pair_distances: test`` (issue 15, point 4).
 
 Seeds: world ``j`` of family ``f`` comes from ``default_rng([TRAINING_SEED_TAG, scenario_seed,
 code_f])``; the benchmark's validation and test worlds use two-word seeds
@@ -33,7 +33,7 @@ TRAINING_SEED_TAG = 7_000_001  # the first word of every training-world seed
 def drivable_length(planner: RobotProfile) -> float:
     """Longest path a planner is asked to drive in training, m: ``FEASIBLE_SHARE`` of what its
     top pace covers within the time-budget cap (the benchmark's bound on a pair's shortest
-    path)."""
+    path; the trainer passes a planner whose cap is its config's ``time_budget`` when set)."""
     return FEASIBLE_SHARE * planner.time_budget_cap * planner.step_max / planner.control_period
 
 

@@ -15,6 +15,7 @@ to an unbroken run with the same seed. A run directory has one writer at a time
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -58,7 +59,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "feedback_action": False, "memory_units": 0, "pair_distances": "paper", "time_budget": None,
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
-    "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None,
+    "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None, "control_period": None,
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -111,7 +112,10 @@ def make_problem(
             key="training_worlds",
             path=source,
         )
-    distances = unseen_distances(robot, prof) if config.pair_distances == "test" else None
+    # pairs must be drivable within the budget a training pair gets (the config's, when set)
+    bound = prof if config.time_budget is None else dataclasses.replace(
+        prof, time_budget_cap=config.time_budget)
+    distances = unseen_distances(robot, bound) if config.pair_distances == "test" else None
     scenarios = training_scenarios(
         prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds,
         distances=distances,
@@ -119,7 +123,7 @@ def make_problem(
     if config.families:
         try:
             scenarios += family_scenarios(
-                robot, prof, config.families,
+                robot, bound, config.families,
                 config.family_pairs, config.scenario_seed,
             )  # fmt: skip
         except ValueError as err:
@@ -356,6 +360,8 @@ def _write_final_files(
             # only when set, so that a genome without it is written as before
             **({} if profile.rotation_shim is None
                else {"rotation_shim": profile.rotation_shim}),
+            **({} if config.control_period is None
+               else {"control_period": profile.control_period}),
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,
