@@ -98,38 +98,39 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
             known = ", ".join(n for n, (k, _) in HAND_WRITTEN.items() if k == "baseline")
             raise MentorError(f"--baselines: unknown baseline {name!r} (known: {known})")
     reference = reference_profile(robot)
-    for source in _limit_sources(args.baseline_limits, robot, reference):
-        limits = reference if source == "reference" else _shipped_limits(robot)
-        suffix = "" if source == "reference" else f"-{source}"
+    for suffix, limits in _baseline_limits(args.baseline_limits, robot, reference):
         chosen += [hand_written(n, limits, n + suffix) for n in names]
     if args.scan_map:
         chosen += [on_scan_map(c) for c in chosen]
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
 
 
-def _limit_sources(text: str, robot: RobotProfile, reference: RobotProfile) -> list[str]:
-    """The ``--baseline-limits`` list (``auto``: the reference, and the shipped limits where
-    any of them differs from it); MentorError for an unknown or repeated source."""
+def _baseline_limits(
+    text: str, robot: RobotProfile, reference: RobotProfile
+) -> list[tuple[str, RobotProfile]]:
+    """``(name suffix, limits)`` of each ``--baseline-limits`` source (``auto``: the
+    reference, and the shipped limits where any of them differs from it); MentorError for
+    an unknown or repeated source, or ``shipped`` for a robot without a shipped config."""
     if text == "auto":
         try:
             shipped = shipped_limits(robot)
         except ValueError:  # a robot without a shipped config
-            return ["reference"]
+            return [("", reference)]
         differ = any(getattr(shipped, k) != getattr(reference, k) for k in LIMIT_KEYS)
-        return ["reference", "shipped"] if differ else ["reference"]
+        return [("", reference), ("-shipped", shipped)] if differ else [("", reference)]
     sources = [s.strip() for s in text.split(",") if s.strip()]
     unknown = [s for s in sources if s not in LIMIT_SOURCES]
     if unknown or not sources or len(set(sources)) != len(sources):
         raise MentorError(f"--baseline-limits: expected distinct sources of "
                           f"{', '.join(LIMIT_SOURCES)}, got {text!r}")  # fmt: skip
-    return sources
-
-
-def _shipped_limits(robot: RobotProfile) -> RobotProfile:
+    if "shipped" not in sources:
+        return [("", reference)]
     try:
-        return shipped_limits(robot)
+        shipped = shipped_limits(robot)
     except ValueError as err:
         raise MentorError(f"--baseline-limits shipped: {one_line(err)}") from None
+    chosen = {"reference": ("", reference), "shipped": ("-shipped", shipped)}
+    return [chosen[s] for s in sources]
 
 
 def table(results: list[ContenderResult], families: tuple[str, ...], limit: str) -> str:
