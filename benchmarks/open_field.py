@@ -60,12 +60,20 @@ def main() -> None:
     parser.add_argument("--baselines", default="vfh,bug", help="comma-separated; '' for none")
     parser.add_argument("--limit", type=float, default=100.0, help="time limit, s")
     args = parser.parse_args()
-    robot = get_profile(args.robot)
+    try:
+        robot = get_profile(args.robot)
+    except MentorError as err:
+        parser.exit(1, f"open_field.py: {err}\n")
     distance = robot.test_arena / 2.0 if args.distance is None else args.distance
-    if not 0.0 < distance < robot.test_arena:
-        parser.error(f"--distance must be in (0, {robot.test_arena}) m, got {distance}")
+    if not robot.goal_radius < distance < robot.test_arena:
+        parser.error(f"--distance must be in ({robot.goal_radius:g}, {robot.test_arena:g}) m "
+                     f"(the goal radius, the test arena), got {distance}")
     if args.bearings < 1:
         parser.error(f"--bearings must be >= 1, got {args.bearings}")
+    if not (args.limit > 0.0 and math.isfinite(args.limit)):
+        parser.error(f"--limit must be a positive number of seconds, got {args.limit}")
+    if not 0.0 <= args.rotation_shim <= 180.0:
+        parser.error(f"--rotation-shim must be in [0, 180] deg, got {args.rotation_shim}")
     # an arena twice the distance wide each way, so that no wall is near a wide detour
     scenarios = open_field(4.0 * distance, distance, args.bearings)
     shortest = np.full(len(scenarios), distance - robot.goal_radius)
@@ -84,8 +92,12 @@ def main() -> None:
                 contenders.append(behind_rotation_shim(plain, math.radians(args.rotation_shim)))
     except MentorError as err:
         parser.exit(1, f"open_field.py: {err}\n")
-    limits = shipped_limits(robot)
-    contenders += [hand_written(name, limits) for name in baselines]
+    if baselines:
+        try:
+            limits = shipped_limits(robot)
+        except ValueError as err:
+            parser.exit(1, f"open_field.py: --baselines: {err}\n")
+        contenders += [hand_written(name, limits) for name in baselines]
 
     print(f"{args.robot}: goals {distance:g} m away at {args.bearings} bearings from -180 deg, "
           f"{args.limit:g} s each")
