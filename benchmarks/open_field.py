@@ -18,7 +18,6 @@ mirror-symmetric planner, ..."). Not a split of the benchmark: nothing here is t
 
 from __future__ import annotations
 
-import argparse
 import math
 
 import numpy as np
@@ -32,6 +31,7 @@ from mentor_core.benchmark.contenders import (
 )
 from mentor_core.benchmark.scores import spl
 from mentor_core.benchmark.suite import shipped_limits
+from mentor_core.cli import arguments
 from mentor_core.errors import MentorError
 from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
@@ -49,17 +49,21 @@ def open_field(arena: float, distance: float, bearings: int) -> list[Scenario]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = arguments.Parser(description=__doc__.split("\n\n")[0])
     parser.add_argument("genomes", nargs="*", help="genome JSON files")
     parser.add_argument("--robot", default="ugv")
     parser.add_argument("--distance", type=float, default=None,
                         help="m from start to goal (default: half the test arena)")
-    parser.add_argument("--bearings", type=int, default=16)
+    parser.add_argument("--bearings", type=arguments.count, default=16)
     parser.add_argument("--rotation-shim", type=float, default=45.0,
                         help="also run each genome behind this shim (deg; 0: not)")
     parser.add_argument("--baselines", default="vfh,bug", help="comma-separated; '' for none")
-    parser.add_argument("--limit", type=float, default=100.0, help="time limit, s")
+    parser.add_argument("--limit", type=arguments.duration, default=100.0, help="time limit, s")
     args = parser.parse_args()
+    try:
+        shim = arguments.rotation_shim_threshold(args.rotation_shim or None)  # 0: not
+    except MentorError as err:
+        parser.error(str(err))
     try:
         robot = get_profile(args.robot)
     except MentorError as err:
@@ -68,12 +72,6 @@ def main() -> None:
     if not robot.goal_radius < distance < robot.test_arena:
         parser.error(f"--distance must be in ({robot.goal_radius:g}, {robot.test_arena:g}) m "
                      f"(the goal radius, the test arena), got {distance}")
-    if args.bearings < 1:
-        parser.error(f"--bearings must be >= 1, got {args.bearings}")
-    if not (args.limit > 0.0 and math.isfinite(args.limit)):
-        parser.error(f"--limit must be a positive number of seconds, got {args.limit}")
-    if not 0.0 <= args.rotation_shim <= 180.0:
-        parser.error(f"--rotation-shim must be in [0, 180] deg, got {args.rotation_shim}")
     # an arena twice the distance wide each way, so that no wall is near a wide detour
     scenarios = open_field(4.0 * distance, distance, args.bearings)
     shortest = np.full(len(scenarios), distance - robot.goal_radius)
@@ -88,8 +86,8 @@ def main() -> None:
         for path in args.genomes:
             plain = evolved(path, robot)
             contenders.append(plain)
-            if args.rotation_shim > 0.0:
-                contenders.append(behind_rotation_shim(plain, math.radians(args.rotation_shim)))
+            if shim is not None:
+                contenders.append(behind_rotation_shim(plain, shim))
     except MentorError as err:
         parser.exit(1, f"open_field.py: {err}\n")
     if baselines:
