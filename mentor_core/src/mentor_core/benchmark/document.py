@@ -10,7 +10,9 @@ its ``name``, ``kind`` (evolved, baseline, oracle), ``source`` (genome file), ``
 {"overall" | family: {success, collision, timeout, time_to_goal, spl}}}``, rates in [0, 1],
 time in s, NaN written as null) and ``results`` per pair (``reached``, ``collided``,
 ``steps``, ``time`` s, ``path_length`` m, ``final_distance`` m, ``trajectory`` ``[[x, y],
-...]`` rounded to the millimetre).
+...]`` rounded to the millimetre). A pair's episode runs to the longer of its two limits, so
+``reached`` and ``collided`` are within that one; ``scores["paper"]`` counts those whose
+``steps`` are at most ``ceil(paper_limit / settings.control_period)``, its own period.
 """
 
 from __future__ import annotations
