@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -15,9 +17,16 @@ from mentor_core.errors import ConfigError, FileFormatError
 from mentor_core.evolution.config import EvolutionConfig
 from mentor_core.evolution.mutation import MutationConfig
 from mentor_core.evolution.species import SpeciationConfig
-from mentor_core.training.config import TrainerConfig, load_config_file
+from mentor_core.training.config import (
+    TrainerConfig,
+    load_config_file,
+    read_config,
+    shipped_config,
+)
 
-CONFIG_DIR = Path(__file__).resolve().parents[1] / "mentor_core/src/mentor_core/configs"
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG_DIR = ROOT / "mentor_core/src/mentor_core/configs"
+EXPERIMENT_CONFIGS = sorted((ROOT / "benchmarks/configs").glob("[su]*.yaml"))
 
 
 @pytest.mark.parametrize(
@@ -277,12 +286,99 @@ def test_print_schema_describes_every_key_and_checks_configs(
     schema = json.loads(capsys.readouterr().out)
     jsonschema.Draft202012Validator.check_schema(schema)
     fields = {f.name for f in dataclasses.fields(TrainerConfig)}
-    assert set(schema["properties"]) == fields | {"seed"}
+    assert set(schema["properties"]) == fields | {"seed", "extends"}
     assert schema["properties"]["generations"]["description"].startswith("Total generations")
     validator = jsonschema.Draft202012Validator(schema)
-    for path in TRAIN_CONFIGS:
+    for path in TRAIN_CONFIGS + EXPERIMENT_CONFIGS:
         validator.validate(yaml.safe_load(path.read_text()))
     validator.validate({"seed": 3, **TrainerConfig().to_dict()})
     for bad in ({"generations": 12.5}, {"generations": "12"}, {"generations": True},
                 {"bogus": 1}, {"evolution": {"mutation": {"weight_rate": 1.5}}}):  # fmt: skip
         assert not validator.is_valid(bad), bad
+
+
+# ------------------------------------------------------------ extends: a config and its departures
+
+
+def test_extends_a_shipped_config_changes_only_the_keys_given(tmp_path: Path) -> None:
+    path = tmp_path / "n40.yaml"
+    path.write_text(
+        "extends: swarm/paper\nn_scenarios: 40\n"
+        "evolution:\n  mutation:\n    recurrent_rate: 0.05\n"
+    )
+    config = TrainerConfig.from_yaml(path)
+    paper = shipped_config("swarm", "paper")
+    mutation = dataclasses.replace(paper.evolution.mutation, recurrent_rate=0.05)
+    evolution = dataclasses.replace(paper.evolution, mutation=mutation)
+    assert config == dataclasses.replace(paper, n_scenarios=40, evolution=evolution)
+    # the base's other evolution keys stay: a mapping is merged key by key
+    assert config.evolution.mutation.max_hidden == 40
+    assert config.evolution.speciation.threshold == paper.evolution.speciation.threshold
+
+
+def test_extends_files_in_a_chain_relative_to_each_file(tmp_path: Path) -> None:
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    (tmp_path / "a/base.yaml").write_text(
+        "robot: ugv\nseed: 7\ngenerations: 20\nstage1_generations: 5\n"
+        "doe:\n  wall_count: [1, 2]\nfamilies: [rooms, maze]\n"
+    )
+    (tmp_path / "b/mid.yaml").write_text(
+        "extends: ../a/base.yaml\nfamilies: [slalom]\nstep_max: 0.4\n"
+    )
+    (tmp_path / "b/top.yaml").write_text("extends: mid.yaml\nstep_max: null\nseed: 3\n")
+    config, seed = load_config_file(tmp_path / "b/top.yaml")
+    assert seed == 3  # its own seed; a base's is not inherited
+    assert (config.robot, config.generations, config.stage1_generations) == ("ugv", 20, 5)
+    assert config.families == ("slalom",)  # a list replaces the base's
+    assert config.step_max is None  # null replaces too
+    assert config.doe.wall_count == (1, 2)
+    assert load_config_file(tmp_path / "b/mid.yaml")[1] is None
+    assert "extends" not in read_config(tmp_path / "b/top.yaml")
+
+
+@pytest.mark.parametrize(
+    ("text", "fault"),
+    [
+        ("extends: ugv/fast\n", "extends: no shipped config 'ugv/fast'"),
+        ("extends: paper\n", "extends: no shipped config 'paper'"),
+        ("extends: 3\n", "extends: must be a shipped config <robot>/<name> or a YAML file"),
+        ("extends: self.yaml\n", "extends: extends itself ("),
+        ("extends: loop.yaml\n", "extends: extends itself ("),
+        ("extends: list.yaml\n", "extends: list.yaml is not a mapping of config keys"),
+        ("extends: swarm/paper\ngenerations: 0\n", "generations: must be >= 1, got 0"),
+    ],
+)
+def test_bad_extends_is_one_line_naming_the_file(tmp_path: Path, text: str, fault: str) -> None:
+    path = tmp_path / "self.yaml"
+    path.write_text(text)
+    (tmp_path / "loop.yaml").write_text("extends: self.yaml\n")
+    (tmp_path / "list.yaml").write_text("- 1\n")
+    with pytest.raises(ConfigError) as err:
+        load_config_file(path)
+    message = str(err.value)
+    where = tmp_path / "loop.yaml" if "loop" in text else path  # the file whose extends closes it
+    assert "\n" not in message and fault in message and message.startswith(f"{where}: ")
+
+
+def test_a_missing_base_names_the_base(tmp_path: Path) -> None:
+    path = tmp_path / "child.yaml"
+    path.write_text("extends: gone.yaml\n")
+    with pytest.raises(FileFormatError, match=r"gone\.yaml: no such file"):
+        TrainerConfig.from_yaml(path)
+
+
+@pytest.mark.parametrize("path", EXPERIMENT_CONFIGS, ids=lambda p: p.name)
+def test_experiment_configs_load(path: Path) -> None:
+    config = TrainerConfig.from_yaml(path)
+    assert config.robot in path.name  # ugv_*.yaml trains the UGV, swarm_*.yaml the Swarm-Robot
+
+
+def test_experiment_configs_train_what_was_pinned() -> None:
+    """A shipped config's change moves the experiments that extend it: the pins
+    (benchmarks/pin_configs.py) say which, so that RESULTS' configs stay what was measured."""
+    done = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks/pin_configs.py"), "--check"],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr

@@ -9,6 +9,13 @@ fault one ConfigError line naming the file and the key path
 (``cfg.yaml: evolution.mutation.weight_rate: must be <= 1.0, got 1.5``); an empty file is a
 FileFormatError. :func:`config_schema` is the JSON schema of a config file, for editors
 (``mentor-train --print-schema``).
+
+A config file may start from another (:func:`read_config`): ``extends: swarm/paper`` (a
+shipped config, ``<robot>/<name>``) or ``extends: base.yaml`` (a file, its path relative to
+this one), and then list only its departures. Its keys replace the base's key by key, a
+mapping (``evolution``, ``doe``) merged key by key too, a list or ``null`` replacing the
+base's whole; a base's ``seed`` is not inherited. The chain may be as long as needed; a
+cycle is a ConfigError.
 """
 
 from __future__ import annotations
@@ -21,6 +28,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
+from mentor_core.errors import ConfigError
 from mentor_core.evolution.config import EvolutionConfig, Robot
 from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import FAMILIES
@@ -238,8 +246,9 @@ class TrainerConfig:
 
     @classmethod
     def from_yaml(cls, path: str | Path) -> TrainerConfig:
-        """Load a YAML config file (FileFormatError if missing, empty or not YAML)."""
-        return cls.from_dict(read_yaml(path), path)
+        """Load a YAML config file, its ``extends`` resolved (:func:`read_config`;
+        FileFormatError if it or a base is missing, empty or not YAML)."""
+        return cls.from_dict(read_config(path), path)
 
 
 @config_dataclass
@@ -251,7 +260,7 @@ def load_config_file(path: str | Path) -> tuple[TrainerConfig, int | None]:
     """A config file, or a run directory's ``config.yaml`` (the resolved config plus the run's
     ``seed``): the config and that seed (None when the file has none). FileFormatError or
     ConfigError naming the file as :meth:`TrainerConfig.from_yaml`."""
-    data = read_yaml(path)
+    data = read_config(path)
     seed = None
     if isinstance(data, dict) and "seed" in data:
         data = dict(data)
@@ -266,17 +275,72 @@ SHIPPED = ("quick", "paper", "original")
 def shipped_config(robot: str, name: str = "paper") -> TrainerConfig:
     """The shipped config ``name`` (one of :data:`SHIPPED`) of ``robot``; ValueError for a
     name or robot without one."""
+    with resources.as_file(_shipped_file(robot, name)) as path:
+        return TrainerConfig.from_yaml(path)
+
+
+def _shipped_file(robot: str, name: str) -> Any:
     ref = resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"
     if name not in SHIPPED or not ref.is_file():
         raise ValueError(f"no shipped config {name!r} for robot {robot!r}")
-    with resources.as_file(ref) as path:
-        return TrainerConfig.from_yaml(path)
+    return ref
+
+
+def read_config(path: str | Path) -> Any:
+    """The YAML document of config file ``path`` with its ``extends`` chain resolved (module
+    docstring): the base's mapping updated by this file's, ``extends`` and the base's
+    ``seed`` dropped. FileFormatError naming the file (this one or a base) that is missing,
+    empty or not YAML; ConfigError naming this file for a bad ``extends`` or a cycle."""
+    return _resolved(Path(path), ())
+
+
+def _resolved(path: Path, chain: tuple[Path, ...]) -> Any:
+    data = read_yaml(path)
+    if not isinstance(data, dict) or "extends" not in data:
+        return data
+    data = dict(data)
+    ref = data.pop("extends")
+    if not isinstance(ref, str) or not ref:
+        raise ConfigError(
+            "must be a shipped config <robot>/<name> or a YAML file's path, "
+            f"got {ref!r}", "extends", path,
+        )  # fmt: skip
+    robot, _, name = ref.partition("/")
+    if not ref.endswith((".yaml", ".yml")):
+        try:
+            shipped = _shipped_file(robot, name)
+        except ValueError:
+            raise ConfigError(
+                f"no shipped config {ref!r} (<robot>/<name>: ugv or swarm, one of "
+                f"{', '.join(SHIPPED)}; a file's path ends in .yaml)", "extends", path,
+            ) from None  # fmt: skip
+        with resources.as_file(shipped) as file:
+            base = _resolved(file, ())
+    else:
+        file = path.parent / ref
+        here = path.resolve()
+        if file.resolve() in (*chain, here):
+            names = " -> ".join(str(p) for p in (*chain, here, file.resolve()))
+            raise ConfigError(f"extends itself ({names})", "extends", path)
+        base = _resolved(file, (*chain, here))
+    if not isinstance(base, dict):
+        raise ConfigError(f"{ref} is not a mapping of config keys", "extends", path)
+    base = dict(base)
+    base.pop("seed", None)  # a run's seed stays with its run
+    _deep_update(base, data)
+    return base
 
 
 def config_schema() -> dict[str, Any]:
     """The JSON schema (draft 2020-12) of a training config file, ``seed`` included (a run
     directory's ``config.yaml``), for editors and CI checks of config files."""
     schema = json_schema(TrainerConfig)
+    schema["properties"]["extends"] = {
+        "type": "string",
+        "description": "Start from a shipped config (<robot>/<name>, e.g. swarm/paper) or "
+        "another config file (a path relative to this one, ending in .yaml) and change only "
+        "the keys given here (mappings key by key).",
+    }
     schema["properties"]["seed"] = {
         "anyOf": [{"type": "integer", "minimum": 0}, {"type": "null"}],
         "default": None,
@@ -298,4 +362,4 @@ def _deep_update(base: dict[str, Any], extra: dict[str, Any]) -> None:
             base[key] = value
 
 
-__all__ = ["Framework", "TrainerConfig", "config_schema", "load_config_file"]
+__all__ = ["Framework", "TrainerConfig", "config_schema", "load_config_file", "read_config"]

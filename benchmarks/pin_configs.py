@@ -1,0 +1,61 @@
+"""Pin what every experiment config in ``benchmarks/configs`` trains.
+
+    .venv/bin/python benchmarks/pin_configs.py          # write benchmarks/configs/pinned.json
+    .venv/bin/python benchmarks/pin_configs.py --check  # exit 1 naming each config that moved
+
+An experiment config ``extends`` a shipped config (or another experiment's) and lists its
+departures, so a change to a shipped config changes every experiment built on it. The pins
+(sha256 of each resolved config) make that change visible: ``tests/test_config.py`` fails
+naming the configs that moved. Then either write the old values into those configs (they
+train what ``benchmarks/RESULTS.md`` measured) or, where the experiment should follow the new
+shipped config, pin again with this script.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import sys
+from pathlib import Path
+
+from mentor_core.training.config import TrainerConfig
+
+CONFIGS = Path(__file__).resolve().parent / "configs"
+PINS = CONFIGS / "pinned.json"
+
+
+def experiment_configs() -> list[Path]:
+    """The training configs of ``benchmarks/configs`` (robot files left out)."""
+    return sorted(p for p in CONFIGS.glob("*.yaml") if not p.name.startswith("robots_"))
+
+
+def digest(path: Path) -> str:
+    """sha256 of ``path``'s resolved config, as canonical JSON."""
+    plain = TrainerConfig.from_yaml(path).to_dict()
+    return hashlib.sha256(json.dumps(plain, sort_keys=True).encode()).hexdigest()
+
+
+def moved() -> list[str]:
+    """Names of the configs whose resolved config is not the pinned one (or has no pin)."""
+    pins = json.loads(PINS.read_text(encoding="utf-8"))
+    return [p.name for p in experiment_configs() if pins.get(p.name) != digest(p)]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--check", action="store_true", help="compare, write nothing")
+    args = parser.parse_args(argv)
+    if args.check:
+        names = moved()
+        for name in names:
+            print(f"{CONFIGS / name}: resolves to another config than its pin", file=sys.stderr)
+        return 1 if names else 0
+    pins = {p.name: digest(p) for p in experiment_configs()}
+    PINS.write_text(json.dumps(pins, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+    print(f"pinned {len(pins)} configs in {PINS}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
