@@ -238,3 +238,63 @@ def test_mentor_draw_never_replaces_its_world_nor_a_file_without_force(
     assert png.read_bytes() == b"mine"
     assert run(draw.main, [*argv, "--force"]) == 0
     assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+# ------------------------------------------------------- --set: one config key on the command line
+
+
+@pytest.mark.parametrize(
+    ("overrides", "fault"),
+    [
+        (["n_scenarios"], "--set: expected KEY=VALUE (a dotted key path), got 'n_scenarios'"),
+        (["=3"], "--set: expected KEY=VALUE"),
+        (["evolution..x=1"], "--set: expected KEY=VALUE"),
+        (["robot=ugv"], "--set: robot: set with --robot, not --set"),
+        (["seed=4"], "--set: seed: set with --seed, not --set"),
+        (["families=[rooms"], "--set: families: '[rooms' is not a YAML value"),
+        (["n_scenarios=0"], "tiny.yaml with --set: n_scenarios: must be >= 1, got 0"),
+        (["evolution.populaton_size=3"], "with --set: evolution.populaton_size: unknown key"),
+        (["n_scenarios=4", "generations=2.5"], "generations: expected a whole number, got 2.5"),
+    ],
+)
+@pytest.mark.usefixtures("no_training")
+def test_a_bad_set_is_one_line_and_trains_nothing(
+    tmp_path: Path, files: dict[str, Path], capsys: pytest.CaptureFixture[str],
+    overrides: list[str], fault: str,
+) -> None:  # fmt: skip
+    argv = ["--robot", "swarm", "--framework", "dual", "--config", str(files["config"]),
+            "--out", str(tmp_path / "r"), "--quiet"]  # fmt: skip
+    for item in overrides:
+        argv += ["--set", item]
+    assert run(train.main, argv) == 2
+    assert fault in one_line(capsys)
+    assert not (tmp_path / "r").exists()
+
+
+def test_set_changes_keys_on_top_of_the_config_and_the_run_records_them(
+    tmp_path: Path, files: dict[str, Path], capsys: pytest.CaptureFixture[str]
+) -> None:
+    sets = ["n_scenarios=2", "evolution.mutation.recurrent_rate=0.05", "doe.wall_count=[0, 1]"]
+    config = train.resolve_config("swarm", "dual", str(files["config"]), sets)
+    assert (config.n_scenarios, config.generations) == (2, TINY["generations"])
+    assert config.evolution.population_size == 8  # the file's, beside the new mutation key
+    assert config.evolution.mutation.recurrent_rate == 0.05
+    assert config.doe.wall_count == (0, 1)
+    out = tmp_path / "run"
+    argv = ["--robot", "swarm", "--framework", "dual", "--config", str(files["config"]),
+            "--out", str(out), "--quiet", "--seed", "3"]  # fmt: skip
+    for item in sets:
+        argv += ["--set", item]
+    assert run(train.main, argv) == 0
+    recorded = yaml.safe_load((out / "config.yaml").read_text())
+    assert recorded["n_scenarios"] == 2 and recorded["seed"] == 3
+    assert recorded["evolution"]["mutation"]["recurrent_rate"] == 0.05
+    capsys.readouterr()
+    # resuming with other settings than the run's is refused
+    assert run(train.main, [*argv[:-6], "--resume", "--set", "n_scenarios=3"]) == 2
+    assert "different config" in capsys.readouterr().err.strip().splitlines()[-1]
+    # the run's config.yaml holds what --set changed: no --set needed to resume from it
+    again = ["--robot", "swarm", "--framework", "dual", "--config", str(out / "config.yaml"),
+             "--out", str(out), "--quiet", "--resume"]  # fmt: skip
+    assert run(train.main, again) == 0
+    assert "holds a finished run" in capsys.readouterr().err

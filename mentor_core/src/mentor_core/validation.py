@@ -224,6 +224,15 @@ _Loader.add_implicit_resolver(
 )
 
 
+def yaml_value(text: str) -> Any:
+    """``text`` read as one YAML 1.2 value (``0.05``, ``[1, 2]``, ``null``, ``rooms``);
+    ValueError when it is not YAML."""
+    try:
+        return yaml.load(text, Loader=_Loader)
+    except yaml.YAMLError as err:
+        raise ValueError(getattr(err, "problem", None) or one_line(err)) from None
+
+
 def read_yaml(path: str | Path) -> Any:
     """The YAML document of ``path`` (YAML 1.2 numbers); FileFormatError naming the file when
     it is missing, unreadable, not YAML or empty."""
@@ -261,4 +270,5 @@ __all__ = [
     "read_yaml",
     "to_plain",
     "validate",
+    "yaml_value",
 ]

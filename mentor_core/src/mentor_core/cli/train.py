@@ -8,7 +8,10 @@
 ``--config`` takes a YAML file or the name of a shipped config (``quick``, ``paper``). A run
 directory's ``config.yaml`` is such a file, with the run's seed: ``mentor-train --robot R
 --framework F --config runs/x/config.yaml --out runs/y`` trains run x again (``--seed``
-overrides the seed). ``mentor-train --print-schema`` prints the JSON schema of a config file
+overrides the seed). ``--set KEY=VALUE`` (repeatable) changes one key of the config on top,
+a dotted key path and a YAML value: ``--set n_scenarios=40 --set
+evolution.mutation.recurrent_rate=0.05``; the run's ``config.yaml`` records the result.
+``mentor-train --print-schema`` prints the JSON schema of a config file
 (for editors and CI checks). Progress: a live bar on a terminal, one line per generation in a
 log (stderr not a terminal).
 """
@@ -19,6 +22,7 @@ import argparse
 import contextlib
 import json
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from mentor_core.cli.arguments import Parser, fail, seed
@@ -30,6 +34,7 @@ from mentor_core.training.config import (
     config_schema,
     load_config_file,
     shipped_config,
+    with_overrides,
 )
 from mentor_core.training.evaluators import make_evaluator
 from mentor_core.training.progress import GenerationProgress
@@ -37,13 +42,15 @@ from mentor_core.training.run_directory import open_run
 from mentor_core.training.trainer import make_problem, train
 
 
-def resolve_config(robot: str, framework: str, config: str | None) -> TrainerConfig:
-    """The config a command line asks for, with --robot and --framework applied."""
-    return resolve_run(robot, framework, config)[0]
+def resolve_config(
+    robot: str, framework: str, config: str | None, overrides: Sequence[str] = ()
+) -> TrainerConfig:
+    """The config a command line asks for, with --set, --robot and --framework applied."""
+    return resolve_run(robot, framework, config, overrides)[0]
 
 
 def resolve_run(
-    robot: str, framework: str, config: str | None
+    robot: str, framework: str, config: str | None, overrides: Sequence[str] = ()
 ) -> tuple[TrainerConfig, int | None]:
     """:func:`resolve_config` and the seed the config file names (a run's ``config.yaml``
     does), else None."""
@@ -53,9 +60,10 @@ def resolve_run(
         base = shipped_config(robot, name)
     else:
         base, seed = load_config_file(Path(name))
-    data = base.to_dict()
+    data = with_overrides(base.to_dict(), overrides)
     data.update(robot=robot, framework=framework)
-    return TrainerConfig.from_dict(data, source=name), seed
+    source = f"{name} with --set" if overrides else name
+    return TrainerConfig.from_dict(data, source=source), seed
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -65,6 +73,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--framework", choices=("single", "dual"), help="(required)")
     p.add_argument("--config", help="YAML file or shipped name: quick | paper | original "
                    "(default paper)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   help="change one config key on top of --config (repeatable): a dotted key "
+                        "path and a YAML value, e.g. --set evolution.mutation.recurrent_rate=0.05")
     p.add_argument("--seed", type=seed, default=None,
                    help="evolution seed, >= 0 (default: the config file's seed, as in a run's "
                         "config.yaml, else 0)")
@@ -109,7 +120,7 @@ def _stopped(args: argparse.Namespace) -> str:
 
 def _run(args: argparse.Namespace) -> int:
     try:
-        config, saved_seed = resolve_run(args.robot, args.framework, args.config)
+        config, saved_seed = resolve_run(args.robot, args.framework, args.config, args.overrides)
         if args.seed is None:
             args.seed = 0 if saved_seed is None else saved_seed
         problem = make_problem(config, source=args.config or "paper")

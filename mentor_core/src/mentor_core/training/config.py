@@ -20,7 +20,9 @@ cycle is a ConfigError.
 
 from __future__ import annotations
 
+import copy
 import math
+from collections.abc import Sequence
 from dataclasses import field
 from importlib import resources
 from pathlib import Path
@@ -46,6 +48,7 @@ from mentor_core.validation import (
     read_yaml,
     to_plain,
     validate,
+    yaml_value,
 )
 
 Framework = Literal["single", "dual"]
@@ -331,6 +334,40 @@ def _resolved(path: Path, chain: tuple[Path, ...]) -> Any:
     return base
 
 
+#: keys a command line sets with options of their own, not with ``--set``
+_OWN_OPTIONS = {"robot": "--robot", "framework": "--framework", "seed": "--seed"}
+
+
+def with_overrides(data: dict[str, Any], overrides: Sequence[str]) -> dict[str, Any]:
+    """A copy of ``data`` (a config's mapping) with each ``KEY=VALUE`` of ``overrides`` set in
+    turn: ``KEY`` a dotted key path (``n_scenarios``, ``evolution.mutation.recurrent_rate``),
+    ``VALUE`` read as YAML 1.2 (``40``, ``0.05``, ``[1, 2]``, ``null``); mappings on the way
+    are created where missing (an unknown key is then the validation's fault). ConfigError
+    naming ``--set`` for an override without ``=`` or a key, a value that is not YAML, or a
+    key that a command line sets with an option of its own (``robot``, ``framework``,
+    ``seed``)."""
+    out = copy.deepcopy(data)
+    for item in overrides:
+        key, eq, text = item.partition("=")
+        path = key.strip().split(".")
+        if not eq or not all(path):
+            raise ConfigError(f"expected KEY=VALUE (a dotted key path), got {item!r}", None,
+                              "--set")  # fmt: skip
+        if path[0] in _OWN_OPTIONS:
+            raise ConfigError(f"set with {_OWN_OPTIONS[path[0]]}, not --set", key, "--set")
+        try:
+            value = yaml_value(text)
+        except ValueError as err:
+            raise ConfigError(f"{text!r} is not a YAML value ({err})", key, "--set") from None
+        node = out
+        for name in path[:-1]:
+            if not isinstance(node.get(name), dict):
+                node[name] = {}
+            node = node[name]
+        node[path[-1]] = value
+    return out
+
+
 def config_schema() -> dict[str, Any]:
     """The JSON schema (draft 2020-12) of a training config file, ``seed`` included (a run
     directory's ``config.yaml``), for editors and CI checks of config files."""
@@ -362,4 +399,11 @@ def _deep_update(base: dict[str, Any], extra: dict[str, Any]) -> None:
             base[key] = value
 
 
-__all__ = ["Framework", "TrainerConfig", "config_schema", "load_config_file", "read_config"]
+__all__ = [
+    "Framework",
+    "TrainerConfig",
+    "config_schema",
+    "load_config_file",
+    "read_config",
+    "with_overrides",
+]
