@@ -1,11 +1,12 @@
-"""Pin what every experiment config in ``benchmarks/configs`` trains.
+"""Pin what every experiment config and robot file in ``benchmarks/configs`` resolves to.
 
     .venv/bin/python benchmarks/pin_configs.py          # write benchmarks/configs/pinned.json
     .venv/bin/python benchmarks/pin_configs.py --check  # exit 1 naming each config that moved
 
 An experiment config ``extends`` a shipped config (or another experiment's) and lists its
-departures, so a change to a shipped config changes every experiment built on it. The pins
-(sha256 of each resolved config) make that change visible: ``tests/test_config.py`` fails
+departures, and so does a robot file of variants (``robots_*.yaml``, ``extends: shipped``),
+so a change to a shipped file changes every experiment built on it. The pins (sha256 of
+each resolved config or robot profiles) make that change visible: ``tests/test_config.py`` fails
 naming the configs that moved. Then either write the old values into those configs (they
 train what ``benchmarks/RESULTS.md`` measured) or, where the experiment should follow the new
 shipped config, pin again with this script.
@@ -14,11 +15,13 @@ shipped config, pin again with this script.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import hashlib
 import json
 import sys
 from pathlib import Path
 
+from mentor_core.sim.robots import load_profiles
 from mentor_core.training.config import TrainerConfig
 
 CONFIGS = Path(__file__).resolve().parent / "configs"
@@ -26,14 +29,18 @@ PINS = CONFIGS / "pinned.json"
 
 
 def experiment_configs() -> list[Path]:
-    """The training configs of ``benchmarks/configs`` (robot files left out)."""
-    return sorted(p for p in CONFIGS.glob("*.yaml") if not p.name.startswith("robots_"))
+    """The training configs and robot files (``robots_*.yaml``) of ``benchmarks/configs``."""
+    return sorted(CONFIGS.glob("*.yaml"))
 
 
 def digest(path: Path) -> str:
-    """sha256 of ``path``'s resolved config, as canonical JSON."""
-    plain = TrainerConfig.from_yaml(path).to_dict()
-    return hashlib.sha256(json.dumps(plain, sort_keys=True).encode()).hexdigest()
+    """sha256 of what ``path`` resolves to (a config, or a robot file's profiles), as
+    canonical JSON."""
+    if path.name.startswith("robots_"):
+        plain = {k: dataclasses.asdict(v) for k, v in load_profiles(path).items()}
+    else:
+        plain = TrainerConfig.from_yaml(path).to_dict()
+    return hashlib.sha256(json.dumps(plain, sort_keys=True, default=repr).encode()).hexdigest()
 
 
 def moved() -> list[str]:

@@ -342,10 +342,10 @@ def test_extends_files_in_a_chain_relative_to_each_file(tmp_path: Path) -> None:
     [
         ("extends: ugv/fast\n", "extends: no shipped config 'ugv/fast'"),
         ("extends: paper\n", "extends: no shipped config 'paper'"),
-        ("extends: 3\n", "extends: must be a shipped config <robot>/<name> or a YAML file"),
+        ("extends: 3\n", "extends: must be a name or a YAML file's path, got 3"),
         ("extends: self.yaml\n", "extends: extends itself ("),
         ("extends: loop.yaml\n", "extends: extends itself ("),
-        ("extends: list.yaml\n", "extends: list.yaml is not a mapping of config keys"),
+        ("extends: list.yaml\n", "extends: list.yaml is not a mapping"),
         ("extends: swarm/paper\ngenerations: 0\n", "generations: must be >= 1, got 0"),
     ],
 )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 from typing import Any
@@ -193,6 +194,39 @@ def test_loaded_copy_equals_default(tmp_path: Path) -> None:
     path = tmp_path / "robots.yaml"
     path.write_text(yaml.safe_dump(_default_doc()))
     assert load_profiles(path) == load_profiles()
+
+
+def test_a_robot_file_of_variants_lists_only_what_differs(tmp_path: Path) -> None:
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub/beams.yaml").write_text(
+        "extends: shipped\nrobots:\n  swarm:\n    beam_width_deg: 30.0\n    beam_rays: 3\n"
+    )
+    (tmp_path / "slow.yaml").write_text(
+        "extends: sub/beams.yaml\nrobots:\n  ugv:\n    step_max: 1.0\n"
+        "  swarm:\n    sensors: [{x: 0.04, y: 0.0, angle_deg: 0.0}]\n"
+    )
+    shipped = load_profiles(shipped_profiles_path())
+    variants = load_profiles(tmp_path / "slow.yaml")
+    assert variants["ugv"] == dataclasses.replace(shipped["ugv"], step_max=1.0)
+    swarm = variants["swarm"]  # the base's beams kept, its sensor list replaced whole
+    assert swarm.beam_rays == 3 and swarm.n_sensors == 1
+    assert swarm.goal_radius == shipped["swarm"].goal_radius
+
+
+@pytest.mark.parametrize(
+    ("text", "fault"),
+    [
+        ("extends: ugv\n", "extends: no robot file 'ugv' (shipped, or a file's path ending"),
+        ("extends: robots.yaml\n", "extends: extends itself"),
+        ("extends: shipped\nrobots:\n  ugv:\n    step_min: -1\n", "robots.ugv.step_min"),
+    ],
+)
+def test_a_bad_extends_names_the_robot_file(tmp_path: Path, text: str, fault: str) -> None:
+    path = tmp_path / "robots.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as info:
+        load_profiles(path)
+    assert str(info.value).startswith(f"{path}: ") and fault in str(info.value)
 
 
 def test_a_beam_is_read_from_the_file_and_sampled_evenly(tmp_path: Path) -> None:

@@ -224,6 +224,60 @@ _Loader.add_implicit_resolver(
 )
 
 
+def read_yaml_extending(
+    path: str | Path, named: Callable[[str], Path], inherit_not: tuple[str, ...] = ()
+) -> Any:
+    """The YAML document of ``path`` (:func:`read_yaml`) with its ``extends`` chain resolved.
+
+    ``extends: REF`` names the base: a file when REF ends in ``.yaml`` or ``.yml`` (its path
+    relative to this file), else the file ``named(REF)`` returns (it raises ValueError, with
+    the message to show, for a name it does not know). The base's mapping is updated by this
+    file's (:func:`merge_mappings`: mappings key by key, anything else replaced); ``extends``
+    and the base's keys in ``inherit_not`` are dropped. A chain may be as long as needed.
+    FileFormatError naming the file (this one or a base) that is missing, empty or not YAML;
+    ConfigError naming the file whose ``extends`` is bad or closes a cycle."""
+    return _extending(Path(path), named, inherit_not, ())
+
+
+def _extending(
+    path: Path, named: Callable[[str], Path], drop: tuple[str, ...], chain: tuple[Path, ...]
+) -> Any:
+    data = read_yaml(path)
+    if not isinstance(data, dict) or "extends" not in data:
+        return data
+    data = dict(data)
+    ref = data.pop("extends")
+    if not isinstance(ref, str) or not ref:
+        raise ConfigError(f"must be a name or a YAML file's path, got {ref!r}", "extends", path)
+    here = path.resolve()
+    if ref.endswith((".yaml", ".yml")):
+        file = path.parent / ref
+        if file.resolve() in (*chain, here):
+            names = " -> ".join(str(p) for p in (*chain, here, file.resolve()))
+            raise ConfigError(f"extends itself ({names})", "extends", path)
+    else:
+        try:
+            file = named(ref)
+        except ValueError as err:
+            raise ConfigError(str(err), "extends", path) from None
+    base = _extending(file, named, drop, (*chain, here))
+    if not isinstance(base, dict):
+        raise ConfigError(f"{ref} is not a mapping", "extends", path)
+    base = {key: value for key, value in base.items() if key not in drop}
+    merge_mappings(base, data)
+    return base
+
+
+def merge_mappings(base: dict[str, Any], extra: dict[str, Any]) -> None:
+    """Update ``base`` in place by ``extra``: a mapping in both merged key by key (the same
+    way down), anything else (a value, a list, null) replacing ``base``'s."""
+    for key, value in extra.items():
+        if isinstance(value, dict) and isinstance(base.get(key), dict):
+            merge_mappings(base[key], value)
+        else:
+            base[key] = value
+
+
 def yaml_value(text: str) -> Any:
     """``text`` read as one YAML 1.2 value (``0.05``, ``[1, 2]``, ``null``, ``rooms``);
     ValueError when it is not YAML."""
@@ -267,7 +321,9 @@ __all__ = [
     "config_error",
     "fault",
     "json_schema",
+    "merge_mappings",
     "read_yaml",
+    "read_yaml_extending",
     "to_plain",
     "validate",
     "yaml_value",

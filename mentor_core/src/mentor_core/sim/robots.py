@@ -15,6 +15,10 @@ above, as a LaserScan's angles increase:
   ``i`` faces ``-22.5 + 45 i`` deg; the front pair (0, 1) reads 45 deg beams of 5 rays, the
   others single rays.
 * ``swarm``: 0 front-right (-45 deg), 1 front-centre (0 deg), 2 front-left (+45 deg).
+
+A robot file of variants may ``extends: shipped`` (or another robot file, its path relative
+to this one, ending in .yaml) and list only what differs, profile by profile and key by key;
+a list (``sensors``) is replaced whole (``mentor_core.validation.read_yaml_extending``).
 """
 
 from __future__ import annotations
@@ -33,7 +37,15 @@ from numpy.typing import ArrayLike, NDArray
 from pydantic import Field, model_validator
 
 from mentor_core.errors import ConfigError, FileFormatError, is_number, is_version
-from mentor_core.validation import Float, Int, Str, config_dataclass, fault, read_yaml, validate
+from mentor_core.validation import (
+    Float,
+    Int,
+    Str,
+    config_dataclass,
+    fault,
+    read_yaml_extending,
+    validate,
+)
 
 #: environment variable that names a robot file to use instead of the shipped one
 ROBOTS_ENV = "MENTOR_ROBOTS"
@@ -422,12 +434,14 @@ def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
     """Read and validate every profile of a robot file (default: :func:`default_profiles_path`).
 
     Raises:
-        FileFormatError: the file is missing, empty, not YAML, or of another format or version.
+        FileFormatError: the file (or one it ``extends``) is missing, empty, not YAML, or
+            of another format or version.
         ConfigError: a key is unknown or missing, or a value is of the wrong type or out of
-            range (names both the key, e.g. ``robots.ugv.step_min``, and the file).
+            range (names both the key, e.g. ``robots.ugv.step_min``, and the file), or a bad
+            ``extends`` (module docstring).
     """
     source = default_profiles_path() if path is None else Path(path)
-    doc = read_yaml(source)
+    doc = read_yaml_extending(source, _named_robot_file)
     if not isinstance(doc, dict):
         raise FileFormatError(source, "expected a mapping at the top level")
     if doc.get("format") != PROFILES_FORMAT:
@@ -436,6 +450,13 @@ def load_profiles(path: str | Path | None = None) -> dict[str, RobotProfile]:
         raise FileFormatError(source, f"version {doc.get('version')!r} is not supported")
     spec = validate(_RobotFile, doc, source)
     return {name: spec.robots[name].profile(name) for name in sorted(spec.robots)}
+
+
+def _named_robot_file(ref: str) -> Path:
+    """The robot file ``extends: shipped`` names."""
+    if ref != "shipped":
+        raise ValueError(f"no robot file {ref!r} (shipped, or a file's path ending in .yaml)")
+    return shipped_profiles_path()
 
 
 def get_profile(name: str, path: str | Path | None = None) -> RobotProfile:

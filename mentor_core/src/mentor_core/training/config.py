@@ -45,7 +45,8 @@ from mentor_core.validation import (
     config_dataclass,
     fault,
     json_schema,
-    read_yaml,
+    merge_mappings,
+    read_yaml_extending,
     to_plain,
     validate,
     yaml_value,
@@ -240,7 +241,7 @@ class TrainerConfig:
             base = EvolutionConfig.paper("ugv" if robot == "ugv" else "swarm").to_dict()
             evolution = data.get("evolution")
             if isinstance(evolution, dict):
-                _deep_update(base, evolution)
+                merge_mappings(base, evolution)
             if evolution is None or isinstance(evolution, dict):
                 data["evolution"] = base
             if "doe" in data and data["doe"] is None:
@@ -278,60 +279,31 @@ SHIPPED = ("quick", "paper", "original")
 def shipped_config(robot: str, name: str = "paper") -> TrainerConfig:
     """The shipped config ``name`` (one of :data:`SHIPPED`) of ``robot``; ValueError for a
     name or robot without one."""
-    with resources.as_file(_shipped_file(robot, name)) as path:
-        return TrainerConfig.from_yaml(path)
-
-
-def _shipped_file(robot: str, name: str) -> Any:
     ref = resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"
     if name not in SHIPPED or not ref.is_file():
         raise ValueError(f"no shipped config {name!r} for robot {robot!r}")
-    return ref
+    with resources.as_file(ref) as path:
+        return TrainerConfig.from_yaml(path)
 
 
 def read_config(path: str | Path) -> Any:
     """The YAML document of config file ``path`` with its ``extends`` chain resolved (module
-    docstring): the base's mapping updated by this file's, ``extends`` and the base's
-    ``seed`` dropped. FileFormatError naming the file (this one or a base) that is missing,
-    empty or not YAML; ConfigError naming this file for a bad ``extends`` or a cycle."""
-    return _resolved(Path(path), ())
+    docstring; :func:`mentor_core.validation.read_yaml_extending`): a base's ``seed`` is not
+    inherited. FileFormatError naming the file (this one or a base) that is missing, empty or
+    not YAML; ConfigError naming the file whose ``extends`` is bad or closes a cycle."""
+    return read_yaml_extending(path, _shipped_path, ("seed",))
 
 
-def _resolved(path: Path, chain: tuple[Path, ...]) -> Any:
-    data = read_yaml(path)
-    if not isinstance(data, dict) or "extends" not in data:
-        return data
-    data = dict(data)
-    ref = data.pop("extends")
-    if not isinstance(ref, str) or not ref:
-        raise ConfigError(
-            "must be a shipped config <robot>/<name> or a YAML file's path, "
-            f"got {ref!r}", "extends", path,
-        )  # fmt: skip
+def _shipped_path(ref: str) -> Path:
+    """The shipped config file that ``extends: <robot>/<name>`` names."""
     robot, _, name = ref.partition("/")
-    if not ref.endswith((".yaml", ".yml")):
-        try:
-            shipped = _shipped_file(robot, name)
-        except ValueError:
-            raise ConfigError(
-                f"no shipped config {ref!r} (<robot>/<name>: ugv or swarm, one of "
-                f"{', '.join(SHIPPED)}; a file's path ends in .yaml)", "extends", path,
-            ) from None  # fmt: skip
-        with resources.as_file(shipped) as file:
-            base = _resolved(file, ())
-    else:
-        file = path.parent / ref
-        here = path.resolve()
-        if file.resolve() in (*chain, here):
-            names = " -> ".join(str(p) for p in (*chain, here, file.resolve()))
-            raise ConfigError(f"extends itself ({names})", "extends", path)
-        base = _resolved(file, (*chain, here))
-    if not isinstance(base, dict):
-        raise ConfigError(f"{ref} is not a mapping of config keys", "extends", path)
-    base = dict(base)
-    base.pop("seed", None)  # a run's seed stays with its run
-    _deep_update(base, data)
-    return base
+    file = Path(str(resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"))
+    if name not in SHIPPED or "/" in name or not file.is_file():
+        raise ValueError(
+            f"no shipped config {ref!r} (<robot>/<name>: ugv or swarm, one of "
+            f"{', '.join(SHIPPED)}; a file's path ends in .yaml)"
+        )
+    return file
 
 
 #: keys a command line sets with options of their own, not with ``--set``
@@ -389,14 +361,6 @@ def config_schema() -> dict[str, Any]:
         "title": "mentor-train config",
         **{k: v for k, v in schema.items() if k != "title"},
     }
-
-
-def _deep_update(base: dict[str, Any], extra: dict[str, Any]) -> None:
-    for key, value in extra.items():
-        if isinstance(value, dict) and isinstance(base.get(key), dict):
-            _deep_update(base[key], value)
-        else:
-            base[key] = value
 
 
 __all__ = [
