@@ -86,13 +86,13 @@ def main() -> None:
             c = behind_rotation_shim(c, math.radians(args.rotation_shim))
         contenders.append(c)
     families = [pair.family for pair in suite.pairs]
+    fam = np.asarray(families)
+    scenarios = [pair.scenario for pair in suite.pairs]
     missed: dict[str, set[int]] = {}
     for c in map(on_scan_map, contenders):
-        scenarios = [pair.scenario for pair in suite.pairs]
         batch = run_episodes(scenarios, c.profile, c.policy(scenarios), time_budgets=PAPER_LIMIT,
                              input_goals=c.input_goals(scenarios))  # fmt: skip
         missed[c.name] = set(np.flatnonzero(~batch.reached).tolist())
-        fam = np.asarray(families)
         per = " ".join(f"{f[:8]}={100 * batch.reached[fam == f].mean():.0f}"
                        for f in suite.families)  # fmt: skip
         rates = [100 * x.mean() for x in (batch.reached, batch.collided, batch.timed_out)]

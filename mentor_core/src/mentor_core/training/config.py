@@ -279,11 +279,11 @@ SHIPPED = ("quick", "paper", "original")
 def shipped_config(robot: str, name: str = "paper") -> TrainerConfig:
     """The shipped config ``name`` (one of :data:`SHIPPED`) of ``robot``; ValueError for a
     name or robot without one."""
-    ref = resources.files("mentor_core") / "configs" / f"train_{robot}_{name}.yaml"
-    if name not in SHIPPED or not ref.is_file():
-        raise ValueError(f"no shipped config {name!r} for robot {robot!r}")
-    with resources.as_file(ref) as path:
-        return TrainerConfig.from_yaml(path)
+    try:
+        path = _shipped_path(f"{robot}/{name}")
+    except ValueError:
+        raise ValueError(f"no shipped config {name!r} for robot {robot!r}") from None
+    return TrainerConfig.from_yaml(path)
 
 
 def read_config(path: str | Path) -> Any:
