@@ -37,10 +37,19 @@ def digest(path: Path) -> str:
     """sha256 of what ``path`` resolves to (a config, or a robot file's profiles), as
     canonical JSON."""
     if path.name.startswith("robots_"):
-        plain = {k: dataclasses.asdict(v) for k, v in load_profiles(path).items()}
+        plain = {k: _set_fields(v) for k, v in load_profiles(path).items()}
     else:
         plain = TrainerConfig.from_yaml(path).to_dict()
     return hashlib.sha256(json.dumps(plain, sort_keys=True, default=repr).encode()).hexdigest()
+
+
+def _set_fields(profile: object) -> dict[str, object]:
+    """A profile's fields but those at their default, so that a new planner setting with a
+    default (one a robot file cannot set) moves no pin."""
+    assert dataclasses.is_dataclass(profile) and not isinstance(profile, type)
+    plain = dataclasses.asdict(profile)
+    return {f.name: plain[f.name] for f in dataclasses.fields(profile)
+            if f.default is dataclasses.MISSING or plain[f.name] != f.default}  # fmt: skip
 
 
 def moved() -> list[str]:

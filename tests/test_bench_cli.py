@@ -207,3 +207,24 @@ def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(
     assert any(turned)
     assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--rotation-shim", "0"]) == 2
     assert "--rotation-shim" in capsys.readouterr().err
+
+
+def test_collision_guard_adds_each_planner_but_the_oracle_behind_the_guard(
+    tmp_path: Path,
+) -> None:
+    out = tmp_path / "guard"
+    code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
+                       "forest_dense", "--pairs-per-family", "5", "--baselines", "vfh",
+                       "--baseline-limits", "reference", "--rotation-shim", "45",
+                       "--collision-guard", "--out", str(out)])  # fmt: skip
+    assert code == 0
+    doc = load_bench(out / "bench.json")
+    names = [c["name"] for c in doc["contenders"]]
+    assert names == ["ref-s1", "shim-ref-s1", "vfh", "guard-ref-s1", "guard-shim-ref-s1",
+                     "guard-vfh", "oracle"]  # fmt: skip
+    by_name = {c["name"]: c for c in doc["contenders"]}
+    assert by_name["guard-shim-ref-s1"]["settings"]["collision_guard"] is True
+    assert by_name["guard-shim-ref-s1"]["settings"]["rotation_shim"] == pytest.approx(math.pi / 4)
+    assert "collision_guard" not in by_name["ref-s1"]["settings"]
+    for c in doc["contenders"]:  # lengths driven, steps back included, are never negative
+        assert all(r["path_length"] >= 0.0 for r in c["results"])

@@ -41,6 +41,8 @@ GoalsMaker = Callable[[Sequence[Scenario], RobotProfile], InputGoals]
 MAPPED = "mapped-"
 #: prefix of the name of an evolved contender behind a rotation shim
 SHIMMED = "shim-"
+#: prefix of the name of a contender behind a collision guard
+GUARDED = "guard-"
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
@@ -94,6 +96,13 @@ def behind_rotation_shim(contender: Contender, threshold: float) -> Contender:
     threshold outside ``(0, pi]``."""
     profile = with_planner(contender.profile, rotation_shim=threshold, source="rotation shim")
     return dataclasses.replace(contender, name=SHIMMED + contender.name, profile=profile)
+
+
+def behind_collision_guard(contender: Contender) -> Contender:
+    """``contender`` with a collision guard vetting its decisions against what its sensors
+    read lately (:mod:`mentor_core.sim.collision_guard`), named ``guard-<name>``."""
+    profile = with_planner(contender.profile, collision_guard=True, source="collision guard")
+    return dataclasses.replace(contender, name=GUARDED + contender.name, profile=profile)
 
 
 #: the hand-written planners: name -> (kind, policy maker)

@@ -49,6 +49,7 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         "feedback_action": profile.feedback_action,
         "memory_units": profile.memory_units,
         **({} if profile.rotation_shim is None else {"rotation_shim": profile.rotation_shim}),
+        **({"collision_guard": True} if profile.collision_guard else {}),
         "control_period": profile.control_period,
     }
 

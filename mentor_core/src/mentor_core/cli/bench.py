@@ -25,6 +25,7 @@ from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.benchmark.contenders import (
     HAND_WRITTEN,
     Contender,
+    behind_collision_guard,
     behind_rotation_shim,
     evolved,
     hand_written,
@@ -74,6 +75,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rotation-shim", type=float, metavar="DEG",
                    help="also run each genome behind a rotation shim of this threshold "
                         "(degrees; Nav2's default 45), as shim-<label>")  # fmt: skip
+    p.add_argument("--collision-guard", action="store_true",
+                   help="also run each planner but the oracle behind a collision guard that "
+                        "vets each decision against what its sensors read lately and backs "
+                        "up when every arc ahead would hit, as guard-<label>")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     return p
@@ -100,6 +105,8 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     reference = reference_profile(robot)
     for suffix, limits in _baseline_limits(args.baseline_limits, robot, reference):
         chosen += [hand_written(n, limits, n + suffix) for n in names]
+    if args.collision_guard:
+        chosen += [behind_collision_guard(c) for c in chosen]
     if args.scan_map:
         chosen += [on_scan_map(c) for c in chosen]
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]

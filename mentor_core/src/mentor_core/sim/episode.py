@@ -13,6 +13,11 @@ Experience (paper, "Experience-Gain"): every decision gives the point
 ``V = [U(t), A(t), U(t + 1)]`` of dimension ``2 k + 2``, with ``U`` the k range readings
 clipped to the sensor range and ``A = (dtheta, ds)``.
 
+A planner with a rotation shim or a collision guard (``RobotProfile.rotation_shim``,
+``RobotProfile.collision_guard``; :mod:`~mentor_core.sim.rotation_shim`,
+:mod:`~mentor_core.sim.collision_guard`) has its outputs, then its actions, vetted here
+before the engine moves it.
+
 Context (a planner with ``feedback_action`` or ``memory_units``): each robot carries what its
 network output at its previous decision into its next inputs
 (:func:`mentor_core.sim.observation.next_context`), from
@@ -31,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.sim import observation
+from mentor_core.sim.collision_guard import CollisionGuard
 from mentor_core.sim.engine import BatchEngine
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.rotation_shim import rotation_shim
@@ -92,14 +98,14 @@ class EpisodeBatch:
         return np.where(self.reached, left, 0.0)
 
     def path_length(self, profile: RobotProfile) -> FloatArray:
-        """``(n,)`` arc length each robot drove, m: the sum of its steps ``ds`` (read from its
-        experience points, ``profile`` the planner's), the arriving one counted up to the
-        sample that reached the goal."""
+        """``(n,)`` arc length each robot drove, m: the sum of its steps ``|ds|`` (read from
+        its experience points, ``profile`` the planner's; a step back of the collision guard
+        counts), the arriving one counted up to the sample that reached the goal."""
         k = profile.n_sensors
         dt = profile.control_period
         lengths = np.empty(len(self.reached), dtype=np.float64)
         for i, points in enumerate(self.experience):
-            ds = points[:, k + 1].copy()
+            ds = np.abs(points[:, k + 1])
             if self.reached[i] and len(ds):
                 ds[-1] *= (self.time_used[i] - (len(ds) - 1) * dt) / dt
             lengths[i] = float(ds.sum())
@@ -300,6 +306,7 @@ def _run_world(
     owners: list[IntArray] = []
     zeros = np.zeros(n, dtype=np.float64)
     aligned = np.zeros(n, dtype=np.bool_)  # the rotation shim's: turned onto the goal yet
+    guard = CollisionGuard(n, profile, world.size) if profile.collision_guard else None
 
     while active.any():
         idx = np.flatnonzero(active)
@@ -312,6 +319,9 @@ def _run_world(
         if profile.rotation_shim is not None:
             outputs, aligned[idx] = rotation_shim(outputs, inputs, aligned[idx], profile)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)
+        if guard is not None:
+            guard.observe(idx, engine.poses[idx], seen)
+            dth, ds = guard.vet(idx, engine.poses[idx], dth, ds, seen)
         if profile.n_context:
             context[idx] = observation.next_context(outputs, profile)
         dtheta_all, ds_all = zeros.copy(), zeros.copy()

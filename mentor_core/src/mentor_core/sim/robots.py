@@ -110,6 +110,10 @@ class RobotProfile:
         rotation_shim: when set, a robot first turns on the spot onto a new goal until its
             bearing is within this angle, rad (:mod:`mentor_core.sim.rotation_shim`); None:
             the network drives from the first decision, as in the paper. A planner's setting.
+        collision_guard: whether a collision guard vets each decision against what the sensors
+            read lately, and backs the robot up when every arc ahead would hit
+            (:mod:`mentor_core.sim.collision_guard`); False in the paper. A deployment option,
+            never trained with.
     """
 
     name: str
@@ -136,6 +140,7 @@ class RobotProfile:
     feedback_action: bool = False
     memory_units: int = 0
     rotation_shim: float | None = None
+    collision_guard: bool = False
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:
@@ -262,6 +267,7 @@ def with_planner(
     memory_units: object = None,
     rotation_shim: object = None,
     control_period: object = None,
+    collision_guard: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
@@ -270,8 +276,10 @@ def with_planner(
     :func:`mentor_core.sim.observation.clearance_limit`), whether it reads its previous action
     (a bool), its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
     :func:`mentor_core.sim.observation.next_context`) and its rotation shim's threshold (rad,
-    in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`) and its control period (s, in
-    ``(0, profile.control_period]``) replaced where given (None keeps the profile's).
+    in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`), its control period (s, in
+    ``(0, profile.control_period]``) and whether a collision guard vets its decisions (a
+    bool; :mod:`mentor_core.sim.collision_guard`) replaced where given (None keeps the
+    profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
@@ -341,6 +349,11 @@ def with_planner(
         )
     if control_period is not None:
         changes.update(_planner_period(profile, changes, control_period, where))
+    if collision_guard is not None:
+        if not isinstance(collision_guard, bool):
+            raise ConfigError(f"must be true or false, got {collision_guard!r}",
+                              key="collision_guard", path=where)  # fmt: skip
+        changes["collision_guard"] = collision_guard
     return dataclasses.replace(profile, **changes)
 
 

@@ -1,0 +1,166 @@
+"""A collision guard behind the planner: no arc into what the sensors have just read, and a
+step back when every arc ahead would hit.
+
+Not in the paper; off by default (the planner setting ``RobotProfile.collision_guard``,
+``mentor-bench --collision-guard``: a deployment option, never trained with). Nav2 checks
+every trajectory a controller proposes against what its sensors read (DWB's critics on the
+costmap, the collision monitor on the raw scans), and its recovery behaviours back the robot
+up when it is stuck. Here, at each decision:
+
+1. The guard remembers the points the robot's readings hit in its last
+   :data:`MEMORY` decisions, in the world frame (a beam's reading on every ray of its cone:
+   the obstacle lies somewhere on that arc), each a square ``2 e`` across, ``e`` a third of
+   the engine's sampling step (:func:`~mentor_core.sim.collision.default_sample_step`; the
+   size measured). The arena's border counts as known, as it does for the scan map, whose
+   grid is the arena.
+2. If the planner's arc sweeps the body over none of them, it is driven as is.
+3. Else the guard takes the free arc nearest to it among :data:`TURNS` heading changes
+   across ``[-h, h]`` and the planner's, times three steps (the planner's, half-way to
+   ``step_min``, and ``step_min``; each held to the clearance rule), nearest by
+   ``|dtheta' - dtheta| / h + |ds' - ds| / (2 (step_max - step_min))``.
+4. If none is free, it backs straight up by the first of :data:`BACKUP_SHARES` of the body
+   length that is free of the points behind its centre line (a negative step), else lets
+   the planner's arc stand.
+
+Why (``benchmarks/RESULTS.md``, "A guard against driving into what the robot has read"): most
+of the shipped UGV planners' collisions come at the smallest step, turning on the spot next to
+an obstacle read a few cm off a front corner, where every turn would hit; backing up frees
+them. Arcs are checked with the simulator's own swept-body test
+(:func:`~mentor_core.sim.collision.swept_collision`) against what was read, not against the
+world.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.sim.collision import default_sample_step, swept_collision
+from mentor_core.sim.observation import clearance_limit
+from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.sensors import beam_frames
+from mentor_core.sim.world import World
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+#: decisions of readings the guard remembers
+MEMORY = 3
+#: heading changes tried across ``[-h, h]`` when the planner's arc would hit
+TURNS = 9
+#: steps back tried, as shares of the body length, when no arc ahead is free
+BACKUP_SHARES = (2.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
+
+
+def read_points(poses: ArrayLike, readings: ArrayLike, profile: RobotProfile) -> list[FloatArray]:
+    """Per robot, the world-frame points ``(j, 2)`` its readings hit (module docstring):
+    ``poses`` ``(m, 3)``, ``readings`` ``(m, k)`` m (+inf or ``>= sensor_range``: no hit)."""
+    p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
+    r = np.asarray(readings, dtype=np.float64).reshape(p.shape[0], profile.n_sensors)
+    rays = beam_frames(p, profile)  # (m, k, beam rays, 3)
+    hit = np.isfinite(r) & (r < profile.sensor_range)
+    reach = np.where(hit, r, 0.0)[:, :, None]
+    x = rays[..., 0] + reach * np.cos(rays[..., 2])
+    y = rays[..., 1] + reach * np.sin(rays[..., 2])
+    # a single-ray sensor's ray is repeated in beam_frames: one point of it
+    beam = np.zeros(profile.n_sensors, dtype=bool)
+    if profile.beam_rays > 1:
+        beam[list(profile.beam_sensors or range(profile.n_sensors))] = True
+    own = beam[:, None] | (np.arange(rays.shape[2]) == 0)[None, :]  # (k, beam rays)
+    keep = hit[:, :, None] & own[None]
+    return [np.stack([x[i][keep[i]], y[i][keep[i]]], axis=-1) for i in range(p.shape[0])]
+
+
+class CollisionGuard:
+    """The guard of ``n`` robots of ``profile`` in an arena of side ``size`` m (module
+    docstring): :meth:`observe` the readings, then :meth:`vet` the actions, every decision."""
+
+    def __init__(self, n: int, profile: RobotProfile, size: float) -> None:
+        self.profile = profile
+        self.size = float(size)
+        self.half = default_sample_step(profile) / 3.0
+        self.recent: list[deque[FloatArray]] = [deque(maxlen=MEMORY) for _ in range(n)]
+        self.changed = 0  # arcs replaced by a free one
+        self.backed = 0  # steps back
+
+    def observe(self, robots: ArrayLike, poses: ArrayLike, readings: ArrayLike) -> None:
+        """Remember what robots ``robots`` ``(m,)`` at ``poses`` ``(m, 3)`` read."""
+        points = read_points(poses, readings, self.profile)
+        for i, seen in zip(np.asarray(robots).tolist(), points, strict=True):
+            self.recent[i].append(seen)
+
+    def vet(
+        self, robots: ArrayLike, poses: ArrayLike, dtheta: ArrayLike, ds: ArrayLike,
+        readings: ArrayLike,
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+        """The decisions ``(dtheta, ds)`` ``(m,)`` each robot drives instead of the planner's
+        (module docstring); ``readings`` ``(m, k)`` are the ones the planner decided on."""
+        p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
+        dth = np.array(dtheta, dtype=np.float64).reshape(-1)
+        step = np.array(ds, dtype=np.float64).reshape(-1)
+        r = np.asarray(readings, dtype=np.float64).reshape(p.shape[0], -1)
+        for k, i in enumerate(np.asarray(robots).tolist()):
+            world = self._obstacles(i)
+            if world is None or swept_collision(p[k], dth[k], step[k], self.profile, world)[0] < 0:
+                continue
+            choice = self._free_arc(p[k], dth[k], step[k], r[k], world)
+            if choice is not None:
+                dth[k], step[k] = choice
+                self.changed += 1
+                continue
+            back = self._step_back(i, p[k])
+            if back is not None:
+                dth[k], step[k] = 0.0, back
+                self.backed += 1
+        return dth, step
+
+    def _obstacles(self, robot: int, behind: FloatArray | None = None) -> World | None:
+        """A robot's remembered points as small boxes of a world (None: no points); with
+        ``behind`` (a pose), only the points behind its centre line."""
+        if not any(len(points) for points in self.recent[robot]):
+            return None
+        points = np.concatenate(list(self.recent[robot]))
+        if behind is not None:
+            ahead = (points - behind[:2]) @ np.array([math.cos(behind[2]), math.sin(behind[2])])
+            points = points[ahead < 0.0]
+        low = np.clip(points - self.half, 0.0, self.size - 2.0 * self.half)
+        return World(self.size, np.concatenate([low, low + 2.0 * self.half], axis=1))
+
+    def _free_arc(
+        self, pose: FloatArray, dtheta: float, ds: float, readings: FloatArray, world: World
+    ) -> tuple[float, float] | None:
+        """The free candidate arc nearest the planner's, or None (module docstring, 3)."""
+        prof = self.profile
+        h = prof.heading_change_max
+        turns, steps = np.meshgrid(
+            np.unique(np.append(np.linspace(-h, h, TURNS), dtheta)),
+            np.unique([ds, 0.5 * (ds + prof.step_min), prof.step_min]),
+        )
+        turns, steps = turns.ravel(), steps.ravel()
+        if prof.clearance_margin is not None:
+            limit = clearance_limit(np.repeat(readings[None], turns.size, axis=0), turns, prof)
+            steps = np.minimum(steps, limit)
+        poses = np.repeat(pose[None], turns.size, axis=0)
+        free = swept_collision(poses, turns, steps, prof, world) < 0
+        if not free.any():
+            return None
+        span = prof.step_max - prof.step_min
+        cost = np.abs(turns - dtheta) / h + 0.5 * np.abs(steps - ds) / span
+        j = int(np.argmin(np.where(free, cost, np.inf)))
+        return float(turns[j]), float(steps[j])
+
+    def _step_back(self, robot: int, pose: FloatArray) -> float | None:
+        """The longest free step back of :data:`BACKUP_SHARES` (negative, m), or None. Driving
+        straight back, the body can only meet points behind its centre line; those ahead are
+        left out, so that a body already within a box's half-width of the wall it faces can
+        still back away from it."""
+        world = self._obstacles(robot, behind=pose)
+        backs = -self.profile.length * np.asarray(BACKUP_SHARES)
+        if world is None:
+            return float(backs[0])
+        poses = np.repeat(pose[None], backs.size, axis=0)
+        free = np.flatnonzero(swept_collision(poses, 0.0, backs, self.profile, world) < 0)
+        return float(backs[free[0]]) if free.size else None
