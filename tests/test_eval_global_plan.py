@@ -64,6 +64,8 @@ def test_a_world_from_a_ros_map(tmp_path: Path, capsys: pytest.CaptureFixture[st
         (["--robot", "ugv"], "give --bag, --world, --map or --seed"),
         (["--robot", "ugv", "--seed", "1", "--lookahead", "-1"], "--lookahead must be"),
         (["--robot", "ugv", "--seed", "1", "--rotation-shim", "0"], "--rotation-shim must be"),
+        (["--robot", "ugv", "--seed", "1", "--collision-guard", "--record", "{tmp}/bag"],
+         "--collision-guard cannot be recorded"),
     ],
 )
 def test_bad_arguments_and_map_files_exit_2_with_one_line(
@@ -91,3 +93,16 @@ def test_behind_a_rotation_shim_a_robot_facing_away_turns_first(tmp_path: Path) 
     # the goal straight behind: the shimmed robot turns on the spot (its smallest step, 0.1 m)
     assert np.hypot(*(shim[1, :2] - shim[0, :2])) <= 0.1 + 1e-9
     assert not np.allclose(plain[1], shim[1])
+
+
+def test_behind_the_collision_guard_fewer_runs_end_in_a_collision(tmp_path: Path) -> None:
+    # a freshly sampled DoE world in which the reference genome collides on 3 pairs of 10
+    collisions = []
+    for extra in ([], ["--collision-guard"]):
+        out = tmp_path / f"eval{len(extra)}.json"
+        assert mentor_eval([str(UGV_GENOME), "--robot", "ugv", "--seed", "3", "--n", "10",
+                            "--out", str(out), *extra]) == 0  # fmt: skip
+        results = json.loads(out.read_text())["runs"][0]["results"]
+        collisions.append(sum(r["collided"] for r in results))
+    assert collisions[0] > 0
+    assert collisions[1] < collisions[0]

@@ -7,6 +7,7 @@
     mentor-eval a.json --robot ugv --map office.yaml --seed 3     # pairs sampled on a ROS map
     mentor-eval a.json --bag bags/unseen/ugv --global-plan        # + along a global plan
     mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
+    mentor-eval a.json --bag bags/unseen/ugv --collision-guard     # no arc into what was read
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
 table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
@@ -17,7 +18,9 @@ default). ``--global-plan`` runs every genome a second time, labelled ``<label> 
 its network steered towards a point ``--lookahead`` m along a shortest path planned on the
 world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run beside it.
 ``--rotation-shim`` runs the genomes behind a rotation shim
-(:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does.
+(:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does;
+``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`; not
+in the planner node yet, so not with ``--record``).
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -252,6 +255,13 @@ def build_parser() -> argparse.ArgumentParser:
         "it lies within DEG degrees, then the network drives (Nav2's default: 45)",
     )
     p.add_argument(
+        "--collision-guard",
+        action="store_true",
+        help="run the genomes behind a collision guard: no arc into what the sensors read "
+        "in the last three decisions, a step back when every arc ahead would hit "
+        "(not with --record)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
     )
     return p
@@ -297,6 +307,9 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
+    if args.collision_guard and args.record is not None:
+        # the episode bag replays through the planner node's GenomePlanner, which has no guard
+        return fail("mentor-eval", "--collision-guard cannot be recorded yet (--record)")
     try:
         shim = rotation_shim_threshold(args.rotation_shim)
         check_outputs(args)
@@ -310,6 +323,8 @@ def main(argv: list[str] | None = None) -> int:
             planner = planner_profile(profile, metadata, path)
             if shim is not None:
                 planner = with_planner(planner, rotation_shim=shim, source=path)
+            if args.collision_guard:
+                planner = with_planner(planner, collision_guard=True, source=path)
             guide = guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]
             for guided in (False, True) if args.global_plan else (False,):
