@@ -146,13 +146,8 @@ def scan_guided_goals(
     a beam sensor's hit goes on every ray of its cone (:class:`ScanMap`), else only its free
     space counts."""
     guides = [ScanGuide(sc.world.size, config) for sc in scenarios]
-    beam = np.full(profile.n_sensors, profile.beam_rays > 1 and profile.beam_sensors is None)
-    if profile.beam_rays > 1 and profile.beam_sensors is not None:
-        beam[list(profile.beam_sensors)] = True
-    located = np.repeat(beam_arcs | ~beam, profile.beam_rays)  # per ray, sensor-major
-    # every ray of a beam, one of a single-ray sensor (beam_frames repeats its ray)
-    first = np.arange(located.size) % profile.beam_rays == 0
-    distinct = np.repeat(beam, profile.beam_rays) | first
+    located = np.repeat(beam_arcs | ~profile.beamed, profile.beam_rays)  # per ray, sensor-major
+    distinct = profile.distinct_rays.reshape(-1)  # beam_frames repeats a single ray
 
     def input_goals(poses: FloatArray, robots: IntArray) -> FloatArray:
         out = np.empty((len(robots), 2), dtype=np.float64)

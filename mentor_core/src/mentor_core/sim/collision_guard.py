@@ -45,7 +45,6 @@ from mentor_core.sim.sensors import beam_frames
 from mentor_core.sim.world import World
 
 FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 #: decisions of readings the guard remembers
 MEMORY = 3
@@ -65,12 +64,7 @@ def read_points(poses: ArrayLike, readings: ArrayLike, profile: RobotProfile) ->
     reach = np.where(hit, r, 0.0)[:, :, None]
     x = rays[..., 0] + reach * np.cos(rays[..., 2])
     y = rays[..., 1] + reach * np.sin(rays[..., 2])
-    # a single-ray sensor's ray is repeated in beam_frames: one point of it
-    beam = np.zeros(profile.n_sensors, dtype=bool)
-    if profile.beam_rays > 1:
-        beam[list(profile.beam_sensors or range(profile.n_sensors))] = True
-    own = beam[:, None] | (np.arange(rays.shape[2]) == 0)[None, :]  # (k, beam rays)
-    keep = hit[:, :, None] & own[None]
+    keep = hit[:, :, None] & profile.distinct_rays[None]  # beam_frames repeats a single ray
     return [np.stack([x[i][keep[i]], y[i][keep[i]]], axis=-1) for i in range(p.shape[0])]
 
 

@@ -320,8 +320,9 @@ def _run_world(
             outputs, aligned[idx] = rotation_shim(outputs, inputs, aligned[idx], profile)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)
         if guard is not None:
-            guard.observe(idx, engine.poses[idx], seen)
-            dth, ds = guard.vet(idx, engine.poses[idx], dth, ds, seen)
+            where = engine.poses[idx]
+            guard.observe(idx, where, seen)
+            dth, ds = guard.vet(idx, where, dth, ds, seen)
         if profile.n_context:
             context[idx] = observation.next_context(outputs, profile)
         dtheta_all, ds_all = zeros.copy(), zeros.copy()

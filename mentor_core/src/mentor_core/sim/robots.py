@@ -193,6 +193,20 @@ class RobotProfile:
         return slice(None) if self.beam_sensors is None else list(self.beam_sensors)
 
     @property
+    def beamed(self) -> NDArray[np.bool_]:
+        """``(n_sensors,)`` whether each sensor has the beam (several rays, the nearest read)."""
+        out = np.zeros(self.n_sensors, dtype=np.bool_)
+        if self.beam_rays > 1:
+            out[self._beam_rows()] = True
+        return out
+
+    @property
+    def distinct_rays(self) -> NDArray[np.bool_]:
+        """``(n_sensors, beam_rays)`` the rays that differ: every ray of a beam, the first of a
+        single-ray sensor (:meth:`ray_offsets` repeats its one ray)."""
+        return np.asarray(self.beamed[:, None] | (np.arange(self.beam_rays) == 0)[None, :])
+
+    @property
     def n_context(self) -> int:
         """Network inputs fed back from the previous decision: its two action outputs with
         ``feedback_action``, then the ``memory_units`` memory outputs."""
