@@ -5,11 +5,13 @@ would hit, and nothing changed when the planner's arc is free."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from mentor_core.errors import ConfigError
+from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.sim.collision import swept_collision
 from mentor_core.sim.collision_guard import BACKUP_SHARES, CollisionGuard, read_points
 from mentor_core.sim.episode import run_episodes
@@ -17,6 +19,8 @@ from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
 from mentor_core.sim.sensors import sensor_readings
 from mentor_core.sim.world import Scenario, World
 
+ROOT = Path(__file__).resolve().parents[1]
+UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
 QUARTER = math.pi / 4
 # a wall across the arena at x in [5, 5.2]
 WALL = World(12.0, np.array([[5.0, 0.0, 5.2, 12.0]]))
@@ -89,6 +93,49 @@ def test_a_robot_wedged_before_a_wall_backs_up(heading: float, gap: float) -> No
     assert guard.backed == 1
     assert dth == 0.0 and ds == pytest.approx(-profile.length * BACKUP_SHARES[0])
     assert swept_collision(np.array([pose]), dth, ds, profile, WALL)[0] < 0
+
+
+@pytest.mark.parametrize(
+    "pose, dtheta, ds",
+    [([3.0, 6.0, 0.0], 0.3, 0.5), ([4.55, 3.0, 0.0], 0.0, 0.5), ([4.845, 3.0, 0.0], QUARTER, 0.02),
+     ([4.8, 9.0, 0.4], -QUARTER, 0.02)],
+)
+def test_without_an_arena_the_guard_decides_as_in_it_wherever_odometry_puts_the_robot(
+    pose: list[float], dtheta: float, ds: float
+) -> None:
+    # the planner node's guard knows no arena: poses in an odometry frame far from the map's
+    # origin, only what was read as obstacles; away from the arena's border that is the same
+    profile = guarded()
+    in_arena = _vet(profile, pose, dtheta, ds)
+    guard = CollisionGuard(1, profile)
+    readings = sensor_readings(np.array([pose]), profile, WALL)
+    odom = np.array([[pose[0] - 250.0, pose[1] + 40.5, pose[2]]])
+    guard.observe([0], odom, readings)
+    dth, step = guard.vet([0], odom, [dtheta], [ds], readings)
+    assert (float(dth[0]), float(step[0])) == pytest.approx(in_arena[:2], abs=1e-12)
+    assert (guard.changed, guard.backed) == (in_arena[2].changed, in_arena[2].backed)
+
+
+def test_a_genome_planner_behind_the_guard_backs_out_of_a_wedge() -> None:
+    # the reference UGV genome, a few mm before a wall it faces: its own decision (a turn on
+    # the smallest step) sweeps a corner into the wall; behind the guard (as the planner node
+    # runs it: collision_guard) it backs up instead, and forgets what it read on reset
+    plain = GenomePlanner.load(UGV_GENOME, "ugv")
+    safe = GenomePlanner.load(UGV_GENOME, "ugv", collision_guard=True)
+    profile = safe.profile
+    assert profile.collision_guard and not plain.profile.collision_guard
+    pose = np.array([5.0 - 0.5 * profile.length - 0.005, 3.0, 0.0])
+    readings = sensor_readings(pose[None], profile, WALL)[0]
+    own = plain.decide(readings, pose, (3.0, 9.0))
+    assert swept_collision(pose[None], *own, profile, WALL)[0] >= 0
+    dth, ds = safe.decide(readings, pose, (3.0, 9.0))
+    assert dth == 0.0 and ds < 0.0
+    assert swept_collision(pose[None], dth, ds, profile, WALL)[0] < 0
+    assert safe.command(readings, pose, (3.0, 9.0))[0] < 0.0  # linear.x: backwards
+    plain.reset()
+    safe.reset()
+    nothing = np.full(profile.n_sensors, np.inf)
+    assert safe.decide(nothing, pose, (3.0, 9.0)) == plain.decide(nothing, pose, (3.0, 9.0))
 
 
 def test_without_readings_the_guard_lets_the_planner_drive() -> None:

@@ -375,6 +375,24 @@ def test_behind_a_rotation_shim_the_node_turns_onto_a_goal_behind_it_first(
     assert abs(got.angular.z) == pytest.approx(min(math.pi, limit) / SWARM.control_period)
 
 
+def test_behind_a_collision_guard_the_node_backs_out_of_a_wedge(graph: Graph) -> None:
+    # the reference genome's body 5 mm before a wall it faces (x = 5 m; readings of a wall
+    # there): its own decision sweeps a corner into the wall, the guard backs it up instead
+    planner = _planner(graph, collision_guard=True)
+    assert planner.planner is not None and planner.planner.profile.collision_guard
+    robot = Robot(graph)
+    reference = GenomePlanner.load(GENOME, "swarm", collision_guard=True)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 9.0), Time()))
+    pose = (5.0 - 0.5 * SWARM.length - 0.005, 3.0, 0.0)
+    ranges = [0.005 * math.sqrt(2.0), 0.005, 0.005 * math.sqrt(2.0)]
+    got = _answered(graph, robot, planner, 0, ranges, pose)
+    wire = [float(np.float32(r)) for r in ranges]
+    assert (got.linear.x, got.angular.z) == reference.command(wire, pose, (3.0, 9.0))
+    assert got.linear.x < 0.0 and got.angular.z == 0.0
+    unguarded = GenomePlanner.load(GENOME, "swarm").command(wire, pose, (3.0, 9.0))
+    assert unguarded[0] > 0.0
+
+
 def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(
     graph: Graph, tmp_path: Path
 ) -> None:

@@ -1,6 +1,7 @@
 """Launch one MENTOR planner on a real robot (ROS 2 Jazzy with ``launch`` installed).
 
     ros2 launch mentor_planner_node planner.launch.py genome:=best_genome.json scan:=/scan
+    ros2 launch mentor_planner_node planner.launch.py genome:=g.json collision_guard:=true
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
@@ -22,6 +23,7 @@ ARGUMENTS = {
     "odom": "/odom",
     "cmd_vel": "/cmd_vel",
     "use_sim_time": "false",
+    "collision_guard": "false",
 }
 
 
@@ -37,6 +39,7 @@ def generate_launch_description() -> LaunchDescription:
             "genome": config["genome"],
             "profile": config["profile"],
             "use_sim_time": ParameterValue(config["use_sim_time"], value_type=bool),
+            "collision_guard": ParameterValue(config["collision_guard"], value_type=bool),
             "decide_on_timer": True,
             "scan_kind": "lidar",
         }],

@@ -51,6 +51,7 @@ class PlannerParameters:
     goal_pose_topic: str
     use_tf: bool
     rotation_shim_deg: float = 0.0
+    collision_guard: bool = False
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
@@ -120,6 +121,12 @@ def _declarations() -> list[tuple[str, Any, Any]]:
                         "angle, then let the network drive (0: as the genome's metadata)",
                         low=0.0),
         ),
+        (
+            "collision_guard",
+            False,
+            _descriptor("no arc into what the scans of the last three decisions hit; a step "
+                        "back when every arc ahead would hit (linear.x < 0)"),
+        ),
     ]
 
 
@@ -165,6 +172,7 @@ def check_parameters(
         goal_pose_topic=str(values["goal_pose_topic"]),
         use_tf=bool(values["use_tf"]),
         rotation_shim_deg=shim,
+        collision_guard=bool(values["collision_guard"]),
     )
 
 

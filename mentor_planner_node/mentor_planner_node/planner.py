@@ -18,7 +18,8 @@ A watchdog on the steady clock sends a zero Twist with a throttled warning when 
 could be answered for ``stale_timeout`` wall s, also when sim time stops. A corrupt genome or
 an unknown profile is one line on stderr and exit status 2.
 With ``global_plan`` the network steers along a path given on ``plan`` or planned on the
-map (:mod:`.global_plan`).
+map (:mod:`.global_plan`); with ``collision_guard`` its decisions pass a collision guard
+(:mod:`mentor_core.sim.collision_guard`) that may answer with a step back (``linear.x < 0``).
 """
 
 from __future__ import annotations
@@ -117,7 +118,11 @@ class PlannerNode(Node):
         self.control_period = p.control_period
         self.goal_radius = p.goal_radius
         shim = math.radians(p.rotation_shim_deg) if p.rotation_shim_deg > 0.0 else None
-        self.planner = GenomePlanner.load(p.genome, self.profile.name, shim) if p.genome else None
+        self.planner = (
+            GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard)
+            if p.genome
+            else None
+        )
         self.gate = DecisionGate(p.stale_timeout, p.sync_tolerance)
         self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
         self.arena: Bounds | None = None

@@ -19,8 +19,8 @@ its network steered towards a point ``--lookahead`` m along a shortest path plan
 world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run beside it.
 ``--rotation-shim`` runs the genomes behind a rotation shim
 (:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does;
-``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`; not
-in the planner node yet, so not with ``--record``).
+``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`), as
+the planner node's ``collision_guard`` does.
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -258,8 +258,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--collision-guard",
         action="store_true",
         help="run the genomes behind a collision guard: no arc into what the sensors read "
-        "in the last three decisions, a step back when every arc ahead would hit "
-        "(not with --record)",
+        "in the last three decisions, a step back when every arc ahead would hit",
     )
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
@@ -307,9 +306,6 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
-    if args.collision_guard and args.record is not None:
-        # the episode bag replays through the planner node's GenomePlanner, which has no guard
-        return fail("mentor-eval", "--collision-guard cannot be recorded yet (--record)")
     try:
         shim = rotation_shim_threshold(args.rotation_shim)
         check_outputs(args)
@@ -340,7 +336,8 @@ def main(argv: list[str] | None = None) -> int:
                 print(_table(run_label, assessment))
                 runs.append((run_label, str(path), assessment))
                 if args.record is not None:
-                    plain = GenomePlanner(genome, planner, str(path))
+                    # the guard counts the arena's border as known, as in the table
+                    plain = GenomePlanner(genome, planner, str(path), arena=world.size)
                     planners.append(_planner(plain, guide, world, guided))
         if args.record is not None:
             record(args.record, profile, world, chosen, args.time_limit, runs, planners,

@@ -60,6 +60,7 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.sim import observation
+from mentor_core.sim.collision_guard import CollisionGuard
 from mentor_core.sim.robots import (
     ROBOTS_ENV,
     RobotProfile,
@@ -127,12 +128,19 @@ class GenomePlanner:
     A planner with a context (``profile.n_context``), a recurrent network or a rotation shim
     (``profile.rotation_shim``) is stateful: each decision reads what the previous one output
     (its network's previous values, whether it has turned onto its goal yet), as in an
-    episode of training, until :meth:`reset`.
+    episode of training, until :meth:`reset`. So is one behind a collision guard
+    (``profile.collision_guard``, :mod:`mentor_core.sim.collision_guard`): it remembers the
+    last decisions' readings. Its guard counts only what was read as an obstacle unless
+    ``arena`` (m) names the side of the simulated arena the robot drives in, whose border it
+    then counts as known, as the batched episodes do.
 
     Raises ConfigError when the genome's inputs/outputs do not fit the profile.
     """
 
-    def __init__(self, genome: Genome, profile: RobotProfile, source: str = "<genome>") -> None:
+    def __init__(
+        self, genome: Genome, profile: RobotProfile, source: str = "<genome>",
+        arena: float | None = None,
+    ) -> None:  # fmt: skip
         fault = profile.network_mismatch(genome.n_inputs, genome.n_outputs)
         if fault:
             raise ConfigError(fault, path=source)
@@ -142,22 +150,27 @@ class GenomePlanner:
         self._context = observation.initial_context(1, profile)
         self._memory = self.network.new_memory(1)
         self._aligned = np.zeros(1, dtype=np.bool_)
+        self.guard = CollisionGuard(1, profile, arena) if profile.collision_guard else None
 
     def reset(self) -> None:
         """Start blank: the next decision reads the context of a first decision (a new goal or
-        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory, and
-        a rotation shim turns onto the goal again."""
+        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory, a
+        rotation shim turns onto the goal again, and a collision guard forgets what it read."""
         self._context = observation.initial_context(1, self.profile)
         self._memory = self.network.new_memory(1)
         self._aligned = np.zeros(1, dtype=np.bool_)
+        if self.guard is not None:
+            self.guard.reset()
 
     @classmethod
     def load(
-        cls, genome_path: str | Path, profile_name: str, rotation_shim: float | None = None
-    ) -> GenomePlanner:
+        cls, genome_path: str | Path, profile_name: str, rotation_shim: float | None = None,
+        collision_guard: bool = False,
+    ) -> GenomePlanner:  # fmt: skip
         """Planner of a genome JSON file for a named profile; ``rotation_shim`` (rad), when
         given, puts it behind a rotation shim of that threshold whatever its metadata says
-        (:mod:`mentor_core.sim.rotation_shim`).
+        (:mod:`mentor_core.sim.rotation_shim`); ``collision_guard`` behind a collision guard
+        on no arena (:mod:`mentor_core.sim.collision_guard`).
 
         FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
         that does not fit it, a threshold outside (0, pi]); both one line naming the file or
@@ -167,6 +180,8 @@ class GenomePlanner:
         profile = planner_profile(get_profile(profile_name), metadata, genome_path)
         if rotation_shim is not None:
             profile = with_planner(profile, rotation_shim=rotation_shim, source=genome_path)
+        if collision_guard:
+            profile = with_planner(profile, collision_guard=True, source=genome_path)
         return cls(genome, profile, source=str(genome_path))
 
     def decide(
@@ -174,11 +189,13 @@ class GenomePlanner:
     ) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) for readings (k,) (m, +inf out of range), pose
         (x, y, theta) and goal (x, y) in ``map``. ValueError for NaN or malformed input (the
-        context is then left as it was)."""
+        context is then left as it was). Behind a collision guard ``ds`` may be negative (a
+        step back)."""
         readings = np.asarray(ranges, dtype=np.float64).reshape(1, -1)
+        where = np.asarray(pose, dtype=np.float64).reshape(1, 3)
         inputs = observation.network_inputs(
             readings,
-            np.asarray(pose, dtype=np.float64).reshape(1, 3),
+            where,
             np.asarray(goal, dtype=np.float64).reshape(1, 2),
             self.profile,
             self._context,
@@ -187,6 +204,9 @@ class GenomePlanner:
         outputs = self.network.activate(inputs, memory)
         outputs, aligned = rotation_shim(outputs, inputs, self._aligned, self.profile)
         dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
+        if self.guard is not None:  # as the batched episodes vet it (sim/episode.py)
+            self.guard.observe([0], where, readings)
+            dtheta, ds = self.guard.vet([0], where, dtheta, ds, readings)
         self._aligned = aligned
         if self.profile.n_context:
             self._context = observation.next_context(outputs, self.profile)

@@ -11,8 +11,10 @@ up when it is stuck. Here, at each decision:
    :data:`MEMORY` decisions, in the world frame (a beam's reading on every ray of its cone:
    the obstacle lies somewhere on that arc), each a square ``2 e`` across, ``e`` a third of
    the engine's sampling step (:func:`~mentor_core.sim.collision.default_sample_step`; the
-   size measured). The arena's border counts as known, as it does for the scan map, whose
-   grid is the arena.
+   size measured). In a simulated arena (``size`` given) its border counts as known, as it
+   does for the scan map, whose grid is the arena; without one (a robot on ROS, the planner
+   node) only what was read counts, checked in a box world about the robot too large for
+   any arc or step back to reach its border.
 2. If the planner's arc sweeps the body over none of them, it is driven as is.
 3. Else the guard takes the free arc nearest to it among :data:`TURNS` heading changes
    across ``[-h, h]`` and the planner's, times three steps (the planner's, half-way to
@@ -69,16 +71,25 @@ def read_points(poses: ArrayLike, readings: ArrayLike, profile: RobotProfile) ->
 
 
 class CollisionGuard:
-    """The guard of ``n`` robots of ``profile`` in an arena of side ``size`` m (module
-    docstring): :meth:`observe` the readings, then :meth:`vet` the actions, every decision."""
+    """The guard of ``n`` robots of ``profile`` in an arena of side ``size`` m, or on no
+    arena (None: the poses may lie anywhere, as odometry's do) (module docstring):
+    :meth:`observe` the readings, then :meth:`vet` the actions, every decision."""
 
-    def __init__(self, n: int, profile: RobotProfile, size: float) -> None:
+    def __init__(self, n: int, profile: RobotProfile, size: float | None = None) -> None:
         self.profile = profile
-        self.size = float(size)
+        self.size = None if size is None else float(size)
         self.half = default_sample_step(profile) / 3.0
+        # without an arena, the half-side of the box world about the robot: a body's arc
+        # (at most step_max) or step back (2/3 of its length) stays well inside it
+        self.reach = profile.step_max + profile.length + profile.width + 2.0 * self.half
         self.recent: list[deque[FloatArray]] = [deque(maxlen=MEMORY) for _ in range(n)]
         self.changed = 0  # arcs replaced by a free one
         self.backed = 0  # steps back
+
+    def reset(self) -> None:
+        """Forget every reading (a new episode)."""
+        for seen in self.recent:
+            seen.clear()
 
     def observe(self, robots: ArrayLike, poses: ArrayLike, readings: ArrayLike) -> None:
         """Remember what robots ``robots`` ``(m,)`` at ``poses`` ``(m, 3)`` read."""
@@ -97,10 +108,13 @@ class CollisionGuard:
         step = np.array(ds, dtype=np.float64).reshape(-1)
         r = np.asarray(readings, dtype=np.float64).reshape(p.shape[0], -1)
         for k, i in enumerate(np.asarray(robots).tolist()):
-            world = self._obstacles(i)
-            if world is None or swept_collision(p[k], dth[k], step[k], self.profile, world)[0] < 0:
+            placed = self._obstacles(i, p[k])
+            if placed is None:
                 continue
-            choice = self._free_arc(p[k], dth[k], step[k], r[k], world)
+            world, pose = placed
+            if swept_collision(pose, dth[k], step[k], self.profile, world)[0] < 0:
+                continue
+            choice = self._free_arc(pose, dth[k], step[k], r[k], world)
             if choice is not None:
                 dth[k], step[k] = choice
                 self.changed += 1
@@ -111,17 +125,28 @@ class CollisionGuard:
                 self.backed += 1
         return dth, step
 
-    def _obstacles(self, robot: int, behind: FloatArray | None = None) -> World | None:
-        """A robot's remembered points as small boxes of a world (None: no points); with
-        ``behind`` (a pose), only the points behind its centre line."""
+    def _obstacles(
+        self, robot: int, pose: FloatArray, behind: bool = False
+    ) -> tuple[World, FloatArray] | None:
+        """A robot's remembered points as small boxes of a world, and its ``pose`` in that
+        world (None: no points); ``behind``: only the points behind its centre line. The
+        world is the arena, or without one a box ``2 reach`` across centred on the robot
+        (the points beyond it out of the body's reach)."""
         if not any(len(points) for points in self.recent[robot]):
             return None
         points = np.concatenate(list(self.recent[robot]))
-        if behind is not None:
-            ahead = (points - behind[:2]) @ np.array([math.cos(behind[2]), math.sin(behind[2])])
+        if behind:
+            ahead = (points - pose[:2]) @ np.array([math.cos(pose[2]), math.sin(pose[2])])
             points = points[ahead < 0.0]
-        low = np.clip(points - self.half, 0.0, self.size - 2.0 * self.half)
-        return World(self.size, np.concatenate([low, low + 2.0 * self.half], axis=1))
+        side = 2.0 * self.half
+        if self.size is not None:
+            low = np.clip(points - self.half, 0.0, self.size - side)
+            return World(self.size, np.concatenate([low, low + side], axis=1)), pose
+        shift = pose[:2] - self.reach
+        low = points - shift - self.half
+        low = low[np.all((low >= 0.0) & (low <= 2.0 * self.reach - side), axis=1)]
+        boxes = np.concatenate([low, low + side], axis=1)
+        return World(2.0 * self.reach, boxes), np.append(pose[:2] - shift, pose[2])
 
     def _free_arc(
         self, pose: FloatArray, dtheta: float, ds: float, readings: FloatArray, world: World
@@ -151,10 +176,11 @@ class CollisionGuard:
         straight back, the body can only meet points behind its centre line; those ahead are
         left out, so that a body already within a box's half-width of the wall it faces can
         still back away from it."""
-        world = self._obstacles(robot, behind=pose)
+        placed = self._obstacles(robot, pose, behind=True)
         backs = -self.profile.length * np.asarray(BACKUP_SHARES)
-        if world is None:
+        if placed is None:
             return float(backs[0])
+        world, pose = placed
         poses = np.repeat(pose[None], backs.size, axis=0)
         free = np.flatnonzero(swept_collision(poses, 0.0, backs, self.profile, world) < 0)
         return float(backs[free[0]]) if free.size else None
