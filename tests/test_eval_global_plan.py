@@ -110,3 +110,19 @@ def test_behind_the_collision_guard_fewer_runs_end_in_a_collision(
     # simulator) ends every episode as the table does
     err = capsys.readouterr().err
     assert "recorded 10 episodes" in err and "in the recording" not in err
+
+
+def test_on_a_scan_map_the_recording_ends_every_episode_as_the_table(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # the benchmark's headline mode: a plan on the map of its own readings, behind the shim
+    # and the guard; recorded through ScanGuidedPlanner, as the planner node's scan_map runs
+    out = tmp_path / "eval.json"
+    assert mentor_eval([str(UGV_GENOME), "--robot", "ugv", "--seed", "3", "--n", "10",
+                        "--scan-map", "--rotation-shim", "45", "--collision-guard",
+                        "--record", str(tmp_path / "bag"), "--out", str(out)]) == 0  # fmt: skip
+    runs = json.loads(out.read_text())["runs"]
+    assert [r["genome"].endswith(" +scan-map") for r in runs] == [False, True]
+    assert runs[0]["results"] != runs[1]["results"]  # the map changes the runs
+    err = capsys.readouterr().err
+    assert "recorded 20 episodes" in err and "in the recording" not in err

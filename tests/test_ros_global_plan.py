@@ -1,7 +1,9 @@
 """Global plans through ROS: the simulator on a ROS map with a dead end publishes /map, the
 planner node plans on it, steers round the dead end and reaches the goal, publishing the path
 it follows; the episode equals the in-process one (the same guide on the grid the wire
-carries) exactly. A path given on ``plan`` is followed instead of planning."""
+carries) exactly. A path given on ``plan`` is followed instead of planning. With ``scan_map``
+the node plans on a map of its own scans, behind the rotation shim and the collision guard,
+as the benchmark's headline planners run, and the episode equals the in-process one."""
 
 from __future__ import annotations
 
@@ -17,14 +19,15 @@ from mentor_core.files.bags import read_episode_bag
 from mentor_core.navigation.grid import world_grid
 from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.map_file import save_map
-from mentor_core.runtime.guided_planner import GuidedPlanner, wire_grid
+from mentor_core.navigation.scan_map import scan_guide_config
+from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner, wire_grid
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.recording import recorded_episodes
 from mentor_core.runtime.scenario_plan import load_scenario_source, source_map
 from mentor_core.runtime.simulator import run_reference_episode
 from mentor_core.sim.world import World
 from mentor_planner_node.conversions import path_msg
-from mentor_planner_node.global_plan import QOS_MAP, QOS_PATH_OUT
+from mentor_planner_node.global_plan import QOS_MAP, QOS_PATH_OUT, PlanSetupError
 from mentor_planner_node.planner import PlannerNode
 from mentor_sim_node.sim import SimNode
 
@@ -93,6 +96,53 @@ def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
     poses = np.array([o.pose for o in run.odometry])
     assert len(poses) == ref.steps + 1
     np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
+
+
+def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchmark(
+    graph: Graph, tmp_path: Path
+) -> None:
+    (tmp_path / "world.yaml").write_text(
+        "format: mentor-world\nversion: 1\nsize: 12.0\n"
+        f"obstacles: {DEAD_END.obstacles.tolist()}\n"
+        "scenarios: [{start: [2.0, 6.0, 0.0], goal: [10.0, 6.0]}]\n"
+    )
+    bag = tmp_path / "episodes"
+    probe = graph.probe()
+    paths: list[PathMsg] = []
+    probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
+    planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True)
+    assert planner.global_plan is not None and not planner.global_plan.ready  # no arena yet
+    sim = graph.add(
+        SimNode(
+            context=graph.context,
+            parameter_overrides=params(
+                robots=["robot_0"], profiles=["ugv"], world=str(tmp_path / "world.yaml"),
+                episodes=1, record=str(bag), time_limit=50.0,
+            ),
+        )
+    )
+    assert graph.spin_until(lambda: sim.finished)
+    graph.spin_until(lambda: bool(paths), timeout=2.0)
+    assert planner.zero_commands == 0
+    assert paths and paths[-1].header.frame_id == "map"  # the plans it followed, for RViz
+
+    # the same episode in process: the genome behind the shim and a guard on no arena, on
+    # the map of what it read, as mentor-bench --scan-map --rotation-shim 45 runs it
+    source = load_scenario_source(world_file=tmp_path / "world.yaml")
+    plain = GenomePlanner.load(GENOME, "ugv", np.pi / 4, collision_guard=True)
+    mapped = ScanGuidedPlanner(plain, scan_guide_config(plain.profile), 12.0)
+    run = recorded_episodes(read_episode_bag(bag), bag)[0]
+    ref = run_reference_episode(source.world, [run.setup], {"robot_0": mapped.decide})["robot_0"]
+    assert run.outcome == ref.outcome
+    poses = np.array([o.pose for o in run.odometry])
+    assert len(poses) == ref.steps + 1
+    np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
+    assert mapped.scan.plans > 1  # it planned again round what it read
+
+
+def test_a_global_plan_and_a_scan_map_at_once_are_refused(graph: Graph) -> None:
+    with pytest.raises(PlanSetupError, match="choose one"):
+        _planner(graph, global_plan=True, scan_map=True)
 
 
 def test_a_given_path_is_followed_and_published(graph: Graph) -> None:

@@ -6,10 +6,14 @@ import math
 
 import numpy as np
 
-from mentor_core.benchmark.contenders import scan_map_resolution
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN
 from mentor_core.navigation.guide import guide_config
-from mentor_core.navigation.scan_map import ScanGuide, ScanMap, scan_guided_goals
+from mentor_core.navigation.scan_map import (
+    ScanGuide,
+    ScanMap,
+    scan_guided_goals,
+    scan_map_resolution,
+)
 from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.sensors import sensor_frames, sensor_readings
@@ -40,6 +44,21 @@ def test_a_ray_clears_the_cells_before_its_hit_and_marks_the_hit() -> None:
     for passes in (1, 2, 3):
         scan.update([[5.05, 1.0, math.pi / 2]], [math.inf], max_range=4.0)
         assert scan.data[45, 50] == (OCCUPIED if passes <= 2 else FREE)
+
+
+def test_a_map_from_another_origin_is_the_same_map_moved() -> None:
+    # the planner node's map lies in the odometry frame, its lower-left corner anywhere
+    here, there = ScanMap(12.0, 0.1), ScanMap(12.0, 0.1, origin=(-64.0, 32.0))
+    # (rays off the cells' edges: a sample on an edge may round either way in either frame)
+    rays = np.array([[2.013, 4.537, 0.0], [1.071, 2.029, math.pi / 2], [7.261, 7.243, 2.5]])
+    shift = np.array([-64.0, 32.0])
+    moved = np.concatenate([rays[:, :2] + shift, rays[:, 2:]], axis=1)
+    new = here.update(rays, [3.0, math.inf, 1.5], max_range=4.0)
+    new_there = there.update(moved, [3.0, math.inf, 1.5], max_range=4.0)
+    assert (here.data == OCCUPIED).sum() == 2 and (here.data == FREE).sum() > 60
+    np.testing.assert_array_equal(here.data, there.data)
+    np.testing.assert_allclose(new_there, new + shift[None, :])
+    assert there.grid().origin[:2] == (-64.0, 32.0)
 
 
 def test_a_beam_reading_lies_on_every_ray_of_its_cone() -> None:

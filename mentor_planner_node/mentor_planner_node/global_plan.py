@@ -1,5 +1,5 @@
-"""The planner node's global plan (``global_plan:=true``): Nav2's planner / controller split,
-with the evolved network as the controller.
+"""The planner node's global plan (``global_plan:=true`` or ``scan_map:=true``): Nav2's
+planner / controller split, with the evolved network as the controller.
 
 The node follows a ``nav_msgs/Path`` it is given on ``plan`` (until its goal changes) or plans
 one itself on the ``nav_msgs/OccupancyGrid`` it receives on ``map_topic`` (``/map``, latched),
@@ -7,13 +7,22 @@ and steers its network towards the point ``lookahead`` m along that path
 (:class:`mentor_core.GuidedPlanner`); it publishes the path it follows on ``global_plan``
 (latched, for RViz). Until a map or a path has come it does not decide (as Nav2's controller
 has nothing to follow): an observation waits for it, and the node's watchdog sends zero
-Twists with a warning if it does not come. Everything computed is ``mentor_core``; this
-module declares the parameters, makes the topics and converts the messages
-(:mod:`.conversions`).
+Twists with a warning if it does not come.
+
+With ``scan_map`` it plans instead on a map of what its own scans read, unknown space free
+(:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --scan-map`` runs the planners): a
+square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
+odometry frame), or with a size of 0 the simulator's arena (``/mentor/obstacles``; the
+simulator's odometry frame is ``map``), which it waits for. The map starts empty at each new
+goal or episode, as each benchmark episode does.
+
+Everything computed is ``mentor_core``; this module declares the parameters, makes the topics
+and converts the messages (:mod:`.conversions`).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -24,7 +33,15 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from mentor_core import GenomePlanner, GuidedPlanner, guide_config
+from mentor_core import (
+    Bounds,
+    GenomePlanner,
+    GuidedPlanner,
+    MentorError,
+    ScanGuidedPlanner,
+    guide_config,
+    scan_guide_config,
+)
 from mentor_planner_node import conversions
 
 WARN_EVERY_S = 5.0
@@ -48,6 +65,10 @@ def _descriptor(text: str, low: float | None = None) -> ParameterDescriptor:
     return ParameterDescriptor(description=text, read_only=True, **extra)
 
 
+class PlanSetupError(MentorError):
+    """A global-plan parameter of the planner node is invalid (one line)."""
+
+
 class GlobalPlan:
     """Topics and decisions of a planner node with a global plan (module docstring)."""
 
@@ -61,6 +82,22 @@ class GlobalPlan:
         self._node = node
         self._on_ready = on_ready
         self._log = node.get_logger()
+        self._genome = planner
+        self.scan_map = bool(values["scan_map"])
+        #: the planner deciding (None: a scan map waiting for the arena)
+        self.planner: GuidedPlanner | ScanGuidedPlanner | None = None
+        self._published = 0
+        self._path_pub = node.create_publisher(Path, "global_plan", QOS_PATH_OUT)
+        if self.scan_map:
+            self._config = scan_guide_config(planner.profile, lookahead=float(values["lookahead"]))
+            size = float(values["scan_map_size"])
+            origin = [float(v) for v in values["scan_map_origin"]]
+            if len(origin) != 2 or not all(math.isfinite(v) for v in origin):
+                raise PlanSetupError(f"scan_map_origin: {origin} is not [x, y] in m")
+            if size > 0.0:
+                corner = (origin[0], origin[1])
+                self.planner = ScanGuidedPlanner(planner, self._config, size, corner)
+            return
         config = guide_config(
             planner.profile,
             lookahead=float(values["lookahead"]),
@@ -69,8 +106,6 @@ class GlobalPlan:
             allow_unknown=bool(values["allow_unknown"]),
         )
         self.planner = GuidedPlanner(planner, config)
-        self._published = 0
-        self._path_pub = node.create_publisher(Path, "global_plan", QOS_PATH_OUT)
         self._map_sub = node.create_subscription(
             OccupancyGridMsg, str(values["map_topic"]), self._on_map, QOS_MAP
         )
@@ -78,12 +113,37 @@ class GlobalPlan:
 
     @property
     def ready(self) -> bool:
-        """A map or a path has come: there is something to follow."""
-        guide = self.planner.guide
-        return guide.planner is not None or guide.path is not None
+        """There is something to follow: a map or a path has come, or a scan map is set up."""
+        if isinstance(self.planner, ScanGuidedPlanner):
+            return True
+        guide = None if self.planner is None else self.planner.guide
+        return guide is not None and (guide.planner is not None or guide.path is not None)
+
+    def waiting_for(self) -> str:
+        """What the node waits for before it decides (one line)."""
+        return "no arena for the scan map yet (scan_map)" if self.scan_map else (
+            "no map or path to follow yet (global_plan)")
+
+    def on_arena(self, arena: Bounds | None) -> None:
+        """The simulator's arena: the scan map's square where ``scan_map_size`` is 0."""
+        if not self.scan_map or self.planner is not None or arena is None:
+            return
+        xmin, ymin, xmax, ymax = arena
+        size = max(xmax - xmin, ymax - ymin)
+        self.planner = ScanGuidedPlanner(self._genome, self._config, size, (xmin, ymin))
+        self._log.info(f"scan map of the arena: {size:g} m from ({xmin:g}, {ymin:g})")
+        self._on_ready()
+
+    def reset(self) -> None:
+        """Start the planner blank (a new goal or episode; a scan map starts empty)."""
+        if self.planner is not None:
+            self.planner.reset()
+        else:
+            self._genome.reset()
 
     def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
         """The guided decision; a new path is published once on ``global_plan``."""
+        assert self.planner is not None  # the node decides only when ready
         decision = self.planner.decide(ranges, pose, goal)
         guide = self.planner.guide
         if guide.revision != self._published and guide.path is not None:
@@ -98,6 +158,7 @@ class GlobalPlan:
         except ValueError as err:
             self._log.warning(f"map rejected: {err}")
             return
+        assert isinstance(self.planner, GuidedPlanner)
         self.planner.set_map(grid)
         self._log.info(f"planning on a {grid.width}x{grid.height} map of {grid.resolution:g} m")
         self._on_ready()
@@ -108,6 +169,7 @@ class GlobalPlan:
         except ValueError as err:
             self._log.warning(f"path rejected: {err}", throttle_duration_sec=WARN_EVERY_S)
             return
+        assert isinstance(self.planner, GuidedPlanner)
         self.planner.set_path(path)
         self._on_ready()
 
@@ -141,9 +203,28 @@ def attach(
                 _descriptor("m added to the footprint's radius when planning", low=0.0),
             ),
             ("allow_unknown", True, _descriptor("plan through unknown map cells")),
+            (
+                "scan_map",
+                False,
+                _descriptor("plan on a map of what the robot's own scans read (unknown space "
+                            "free), as mentor-bench --scan-map"),
+            ),
+            (
+                "scan_map_size",
+                0.0,
+                _descriptor("m, side of the scan map's square (0: the simulator's arena)",
+                            low=0.0),
+            ),
+            (
+                "scan_map_origin",
+                [0.0, 0.0],
+                _descriptor("[x, y] m, the scan map's lower-left corner in the odometry frame"),
+            ),
         ],
     )
     values = {p.name: p.value for p in declared}
-    if not values["global_plan"] or planner is None:
+    if values["global_plan"] and values["scan_map"]:
+        raise PlanSetupError("global_plan and scan_map: choose one plan to follow")
+    if not (values["global_plan"] or values["scan_map"]) or planner is None:
         return None
     return GlobalPlan(node, planner, values, on_ready)

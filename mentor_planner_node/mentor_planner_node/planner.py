@@ -277,6 +277,8 @@ class PlannerNode(Node):
 
     def _on_arena(self, msg: MarkerArray) -> None:
         self.arena = conversions.arena_bounds(msg)
+        if self.global_plan is not None:
+            self.global_plan.on_arena(self.arena)
 
     def _on_parameters(self, params: list[Parameter]) -> SetParametersResult:
         """``goal_radius`` at run time (the rest is read-only: rclpy refuses it first)."""
@@ -304,10 +306,11 @@ class PlannerNode(Node):
         if self.planner is None:
             self._send_zero("no genome loaded")
             return
+        decider = self.planner if self.global_plan is None else self.global_plan
         if obs.new_goal:  # a planner with a memory starts each goal blank, as in training
-            self.planner.reset()
+            decider.reset()
         try:
-            decide = self.planner.decide if self.global_plan is None else self.global_plan.decide
+            decide = decider.decide
             dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)
             twist = conversions.twist_from_action(dtheta, ds, self.control_period)
         except ValueError as err:
@@ -319,7 +322,7 @@ class PlannerNode(Node):
     def _on_watchdog(self) -> None:
         reason = self.gate.watchdog(self._steady_ns())
         if reason is not None and self.global_plan is not None and not self.global_plan.ready:
-            reason = "no map or path to follow yet (global_plan)"
+            reason = self.global_plan.waiting_for()
         if reason is not None:
             self._send_zero(reason)
 

@@ -101,6 +101,7 @@ _EXPORTS: dict[str, str] = {
     "GuideConfig": "mentor_core.navigation.guide",
     "PathGuide": "mentor_core.navigation.guide",
     "guide_config": "mentor_core.navigation.guide",
+    "scan_guide_config": "mentor_core.navigation.scan_map",
     # training
     "TrainerConfig": "mentor_core.training.config",
     "load_config_file": "mentor_core.training.config",
@@ -117,6 +118,7 @@ _EXPORTS: dict[str, str] = {
     "load_scenario_source": "mentor_core.runtime.scenario_plan",
     "source_map": "mentor_core.runtime.scenario_plan",
     "GuidedPlanner": "mentor_core.runtime.guided_planner",
+    "ScanGuidedPlanner": "mentor_core.runtime.guided_planner",
     "wire_grid": "mentor_core.runtime.guided_planner",
     "CommandBarrier": "mentor_core.runtime.lockstep",
     "LatestCommands": "mentor_core.runtime.lockstep",
@@ -258,6 +260,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.navigation.map_world import (
         load_world_file as load_world_file,
     )
+    from mentor_core.navigation.scan_map import (
+        scan_guide_config as scan_guide_config,
+    )
     from mentor_core.objectives.complexity import (
         flops_ratio as flops_ratio,
     )
@@ -278,6 +283,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.guided_planner import (
         GuidedPlanner as GuidedPlanner,
+    )
+    from mentor_core.runtime.guided_planner import (
+        ScanGuidedPlanner as ScanGuidedPlanner,
     )
     from mentor_core.runtime.guided_planner import (
         wire_grid as wire_grid,

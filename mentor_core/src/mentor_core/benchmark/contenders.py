@@ -26,8 +26,7 @@ from mentor_core.errors import FileFormatError
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
-from mentor_core.navigation.guide import guide_config
-from mentor_core.navigation.scan_map import scan_guided_goals
+from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.episode import InputGoals, Policy
 from mentor_core.sim.robots import RobotProfile, with_planner
@@ -68,13 +67,6 @@ class Contender:
         return None if self.make_goals is None else self.make_goals(scenarios, self.profile)
 
 
-def scan_map_resolution(profile: RobotProfile) -> float:
-    """The scan map's cell: half the footprint's circumscribed radius, to 5 mm (0.1 m for
-    the UGV, 0.025 m for the Swarm-Robot; the cells of ``benchmarks/RESULTS.md``, "A map of
-    what the robot read")."""
-    return max(0.005, round(profile.half_diagonal / 2.0 / 0.005) * 0.005)
-
-
 def on_scan_map(contender: Contender) -> Contender:
     """``contender`` steering to the carrot of a plan on the map of what its own sensors have
     read (:func:`mentor_core.navigation.scan_map.scan_guided_goals`, unknown space free),
@@ -82,8 +74,7 @@ def on_scan_map(contender: Contender) -> Contender:
     known beforehand. An experiment (``benchmarks/RESULTS.md``)."""
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> InputGoals:
-        config = guide_config(profile, resolution=scan_map_resolution(profile))
-        return scan_guided_goals(scenarios, profile, config)[0]
+        return scan_guided_goals(scenarios, profile, scan_guide_config(profile))[0]
 
     return Contender(MAPPED + contender.name, contender.kind, contender.profile,
                      contender.make_policy, contender.source, make)  # fmt: skip

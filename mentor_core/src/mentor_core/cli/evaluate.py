@@ -6,6 +6,7 @@
     mentor-eval a.json --bag bags/unseen/swarm --record out/episodes   # + an episode bag
     mentor-eval a.json --robot ugv --map office.yaml --seed 3     # pairs sampled on a ROS map
     mentor-eval a.json --bag bags/unseen/ugv --global-plan        # + along a global plan
+    mentor-eval a.json --bag bags/unseen/ugv --scan-map           # + on a map of its readings
     mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
     mentor-eval a.json --bag bags/unseen/ugv --collision-guard     # no arc into what was read
 
@@ -54,7 +55,8 @@ from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.navigation.grid import world_grid
 from mentor_core.navigation.guide import GuideConfig, guide_config, guided_goals, world_guides
 from mentor_core.navigation.map_world import load_map_world, load_world_file
-from mentor_core.runtime.guided_planner import GuidedPlanner
+from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
+from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
@@ -168,7 +170,7 @@ def record(
     scenarios: list[Scenario],
     time_limit: float,
     runs: list[tuple[str, str, Assessment]],
-    planners: list[GenomePlanner | GuidedPlanner],
+    planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner],
     numbers: list[int],
     force: bool = False,
 ) -> None:
@@ -202,11 +204,14 @@ def record(
 
 
 def _planner(
-    plain: GenomePlanner, guide: GuideConfig, world: World, guided: bool
-) -> GenomePlanner | GuidedPlanner:
-    """The planner recorded for a run: the plain one, or the guided one planning on
-    ``world``'s grid."""
-    if not guided:
+    plain: GenomePlanner, guide: GuideConfig, world: World, mode: str
+) -> GenomePlanner | GuidedPlanner | ScanGuidedPlanner:
+    """The planner recorded for a run of ``mode`` (``""``, ``"+global-plan"`` or
+    ``"+scan-map"``): the plain one, the guided one planning on ``world``'s grid, or the one
+    planning on the map of its own readings (the arena's square, as in the table)."""
+    if mode == "+scan-map":
+        return ScanGuidedPlanner(plain, guide, world.size)
+    if not mode:
         return plain
     planner = GuidedPlanner(plain, guide)
     planner.set_map(world_grid(world, guide.resolution))
@@ -241,6 +246,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--global-plan",
         action="store_true",
         help="also run each genome along a shortest path planned on the world's grid",
+    )
+    p.add_argument(
+        "--scan-map",
+        action="store_true",
+        help="also run each genome along a plan on the map of its own readings (unknown "
+        "space free; as mentor-bench --scan-map and the planner node's scan_map)",
     )
     p.add_argument(
         "--lookahead",
@@ -313,7 +324,8 @@ def main(argv: list[str] | None = None) -> int:
         numbers, skipped = runnable(profile, world, scenarios, source)
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
-        planners: list[GenomePlanner | GuidedPlanner] = []
+        planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner] = []
+        modes = [""] + ["+global-plan"] * args.global_plan + ["+scan-map"] * args.scan_map
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
@@ -322,23 +334,28 @@ def main(argv: list[str] | None = None) -> int:
             if args.collision_guard:
                 planner = with_planner(planner, collision_guard=True, source=path)
             guide = guide_config(planner, lookahead=args.lookahead)
+            mapped = scan_guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]
-            for guided in (False, True) if args.global_plan else (False,):
-                guides = world_guides(world, guide, len(goals)) if guided else None
-                aims = None if guides is None else guided_goals(guides, goals)
+            for mode in modes:
+                aims = None
+                if mode == "+global-plan":
+                    aims = guided_goals(world_guides(world, guide, len(goals)), goals)
+                elif mode == "+scan-map":
+                    aims = scan_guided_goals(chosen, planner, mapped)[0]
                 try:
                     assessment = assess(
                         genome, planner, chosen, args.time_limit, aims, numbers
                     )
                 except ValueError as err:
                     raise FileFormatError(path, str(err)) from None
-                run_label = f"{label} +global-plan" if guided else label
+                run_label = f"{label} {mode}" if mode else label
                 print(_table(run_label, assessment))
                 runs.append((run_label, str(path), assessment))
                 if args.record is not None:
                     # the guard counts the arena's border as known, as in the table
                     plain = GenomePlanner(genome, planner, str(path), arena=world.size)
-                    planners.append(_planner(plain, guide, world, guided))
+                    config = mapped if mode == "+scan-map" else guide
+                    planners.append(_planner(plain, config, world, mode))
         if args.record is not None:
             record(args.record, profile, world, chosen, args.time_limit, runs, planners,
                    numbers, args.force)  # fmt: skip

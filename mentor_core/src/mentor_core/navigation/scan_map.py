@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.navigation.follow import point_at, progress
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
-from mentor_core.navigation.guide import GuideConfig, PathGuide
+from mentor_core.navigation.guide import GuideConfig, PathGuide, guide_config
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.sensors import beam_frames, sensor_readings
 from mentor_core.sim.world import Scenario
@@ -32,7 +32,8 @@ IntArray = NDArray[np.int64]
 
 class ScanMap:
     """The occupancy grid of what one robot has read (module docstring): ``size`` m square
-    from ``(0, 0)``, cells of ``resolution`` m.
+    from ``origin`` (its lower-left corner, default ``(0, 0)``, the arena's), cells of
+    ``resolution`` m; rays beyond it end on its border cells.
 
     Each cell counts the rays that ended in it (hits) and the rays that passed through it
     (misses); it is occupied while its hits are at least its misses, free when only rays
@@ -44,10 +45,15 @@ class ScanMap:
     in ``benchmarks/RESULTS.md``, "A map of what the robot read").
     """
 
-    def __init__(self, size: float, resolution: float) -> None:
+    def __init__(
+        self, size: float, resolution: float, origin: tuple[float, float] = (0.0, 0.0)
+    ) -> None:
         if not (math.isfinite(size) and size > 0 and math.isfinite(resolution) and resolution > 0):
             raise ValueError(f"size and resolution must be positive, got {size}, {resolution}")
+        if not all(math.isfinite(v) for v in origin):
+            raise ValueError(f"origin must be finite, got {origin}")
         self.resolution = float(resolution)
+        self.origin = (float(origin[0]), float(origin[1]))
         n = max(1, math.ceil(size / resolution))
         self.hits = np.zeros((n, n), dtype=np.int32)
         self.misses = np.zeros((n, n), dtype=np.int32)
@@ -93,24 +99,28 @@ class ScanMap:
         cells = np.unique(np.stack(ends), axis=1)  # a cell hit by several rays of a cone: once
         np.add.at(self.hits, (cells[0], cells[1]), 1)
         rows, cols = np.nonzero(self._occupied() & ~before)
-        return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution
+        return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution + self.origin
 
     def grid(self) -> OccupancyGrid:
-        """The map as an :class:`OccupancyGrid` (origin at ``(0, 0)``)."""
-        return OccupancyGrid(self.resolution, (0.0, 0.0, 0.0), self.data)
+        """The map as an :class:`OccupancyGrid` (its origin the map's)."""
+        return OccupancyGrid(self.resolution, (*self.origin, 0.0), self.data)
 
     def _cells(self, y: FloatArray, x: FloatArray) -> tuple[IntArray, IntArray]:
         n = self.hits.shape[0]
-        rows = np.clip(np.floor(y / self.resolution).astype(np.int64), 0, n - 1)
-        cols = np.clip(np.floor(x / self.resolution).astype(np.int64), 0, n - 1)
+        x0, y0 = self.origin
+        rows = np.clip(np.floor((y - y0) / self.resolution).astype(np.int64), 0, n - 1)
+        cols = np.clip(np.floor((x - x0) / self.resolution).astype(np.int64), 0, n - 1)
         return rows, cols
 
 
 class ScanGuide:
-    """One robot's plan on its own :class:`ScanMap` (module docstring)."""
+    """One robot's plan on its own :class:`ScanMap` of side ``size`` m from ``origin``
+    (module docstring)."""
 
-    def __init__(self, size: float, config: GuideConfig) -> None:
-        self.map = ScanMap(size, config.resolution)
+    def __init__(
+        self, size: float, config: GuideConfig, origin: tuple[float, float] = (0.0, 0.0)
+    ) -> None:
+        self.map = ScanMap(size, config.resolution, origin)
         self.guide = PathGuide(config)
         self.guide.set_map(self.map.grid())
         self.plans = 0  # maps planned on, the first included
@@ -127,6 +137,35 @@ class ScanGuide:
             self.guide.set_map(self.map.grid())
             self.plans += 1
         return self.guide.target(xy, goal)
+
+
+    def read(self, pose: ArrayLike, readings: ArrayLike, goal: ArrayLike, profile: RobotProfile,
+             beam_arcs: bool = False) -> tuple[float, float]:  # fmt: skip
+        """:meth:`target` of a robot of ``profile`` at ``pose`` (x, y, theta) that read
+        ``readings`` ``(k,)`` (m, +inf out of range), each sensor's reading on every ray of
+        its beam; ``beam_arcs``: a beam's hit goes on every ray of its cone
+        (:class:`ScanMap`), else only its free space counts."""
+        p = np.asarray(pose, dtype=np.float64).reshape(1, 3)
+        rays = beam_frames(p, profile)[0]  # (sensors, beam rays, 3)
+        r = np.asarray(readings, dtype=np.float64).reshape(profile.n_sensors)
+        per_ray = np.broadcast_to(r[:, None], rays.shape[:2]).reshape(-1)
+        distinct = profile.distinct_rays.reshape(-1)  # beam_frames repeats a single ray
+        located = np.repeat(beam_arcs | ~profile.beamed, profile.beam_rays)  # sensor-major
+        return self.target(rays.reshape(-1, 3)[distinct], per_ray[distinct],
+                           profile.sensor_range, p[0, :2], goal, located[distinct])  # fmt: skip
+
+
+def scan_map_resolution(profile: RobotProfile) -> float:
+    """The scan map's cell: half the footprint's circumscribed radius, to 5 mm (0.1 m for
+    the UGV, 0.025 m for the Swarm-Robot; the cells of ``benchmarks/RESULTS.md``, "A map of
+    what the robot read")."""
+    return max(0.005, round(profile.half_diagonal / 2.0 / 0.005) * 0.005)
+
+
+def scan_guide_config(profile: RobotProfile, lookahead: float | None = None) -> GuideConfig:
+    """The guide's settings on a scan map: :func:`~mentor_core.navigation.guide.guide_config`
+    with cells of :func:`scan_map_resolution` (``mentor-bench --scan-map``)."""
+    return guide_config(profile, lookahead=lookahead, resolution=scan_map_resolution(profile))
 
 
 def _near(cells: FloatArray, path: FloatArray, config: GuideConfig) -> bool:
@@ -146,19 +185,13 @@ def scan_guided_goals(
     a beam sensor's hit goes on every ray of its cone (:class:`ScanMap`), else only its free
     space counts."""
     guides = [ScanGuide(sc.world.size, config) for sc in scenarios]
-    located = np.repeat(beam_arcs | ~profile.beamed, profile.beam_rays)  # per ray, sensor-major
-    distinct = profile.distinct_rays.reshape(-1)  # beam_frames repeats a single ray
 
     def input_goals(poses: FloatArray, robots: IntArray) -> FloatArray:
         out = np.empty((len(robots), 2), dtype=np.float64)
-        rays = beam_frames(poses, profile)  # (m, sensors, beam rays, 3)
         for k, i in enumerate(robots.tolist()):
             sc = scenarios[i]
             readings = sensor_readings(poses[k : k + 1], profile, sc.world)[0]
-            per_ray = np.broadcast_to(readings[:, None], rays.shape[1:3]).reshape(-1)
-            out[k] = guides[i].target(rays[k].reshape(-1, 3)[distinct], per_ray[distinct],
-                                      profile.sensor_range, poses[k, :2], sc.goal,
-                                      located[distinct])  # fmt: skip
+            out[k] = guides[i].read(poses[k], readings, sc.goal, profile, beam_arcs)
         return out
 
     return input_goals, guides

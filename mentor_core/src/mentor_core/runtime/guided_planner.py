@@ -7,6 +7,9 @@ the same network inputs and actions, but the goal its network sees is the one a
 the global path (given, or planned on the map it was handed), the final goal near the path's
 end. The planner node calls it with the map and paths it receives; ``mentor-eval
 --global-plan`` runs the same guide offline (:func:`mentor_core.navigation.guide.guided_goals`).
+:class:`ScanGuidedPlanner` plans on the map of what the robot itself has read instead
+(:class:`~mentor_core.navigation.scan_map.ScanGuide`), as ``mentor-bench --scan-map`` and
+``mentor-eval --scan-map`` run it (:func:`mentor_core.navigation.scan_map.scan_guided_goals`).
 
 :func:`wire_grid` is the grid a ``nav_msgs/OccupancyGrid`` carries (its resolution is a
 float32), so an in-process episode plans on exactly what the planner node receives.
@@ -21,6 +24,7 @@ from numpy.typing import ArrayLike
 
 from mentor_core.navigation.grid import OccupancyGrid
 from mentor_core.navigation.guide import GuideConfig, PathGuide
+from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.planner import GenomePlanner
 
 
@@ -58,4 +62,41 @@ class GuidedPlanner:
         seeing the guide's goal instead of ``goal``."""
         p = np.asarray(pose, dtype=np.float64).reshape(3)
         aim = self.guide.target(p[:2], goal)
+        return self.planner.decide(ranges, p, aim)
+
+
+class ScanGuidedPlanner:
+    """An evolved genome steering along a plan on the map of its own readings (module
+    docstring): a map of side ``size`` m from ``origin`` (its lower-left corner, in the frame
+    the poses are in), unknown space planned as free.
+
+    Args:
+        planner: the genome's planner (network, profile, limits).
+        config: the guide's settings (:func:`mentor_core.navigation.guide.guide_config`).
+    """
+
+    def __init__(
+        self, planner: GenomePlanner, config: GuideConfig, size: float,
+        origin: tuple[float, float] = (0.0, 0.0),
+    ) -> None:  # fmt: skip
+        self.planner = planner
+        self._blank = (float(size), config, (float(origin[0]), float(origin[1])))
+        self.scan = ScanGuide(*self._blank)
+
+    @property
+    def guide(self) -> PathGuide:
+        """The plan followed (its ``path`` and ``revision``)."""
+        return self.scan.guide
+
+    def reset(self) -> None:
+        """Start blank (a new goal or episode): the network as :meth:`GenomePlanner.reset`,
+        and an empty map, as each episode of ``mentor-bench --scan-map`` starts."""
+        self.planner.reset()
+        self.scan = ScanGuide(*self._blank)
+
+    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+        """Decision ``(dtheta, ds)`` (rad, m) as :meth:`GenomePlanner.decide`, after adding
+        ``ranges`` to the map; the network sees the guide's goal instead of ``goal``."""
+        p = np.asarray(pose, dtype=np.float64).reshape(3)
+        aim = self.scan.read(p, ranges, goal, self.planner.profile)
         return self.planner.decide(ranges, p, aim)
