@@ -108,6 +108,8 @@ class CollisionGuard:
         step = np.array(ds, dtype=np.float64).reshape(-1)
         r = np.asarray(readings, dtype=np.float64).reshape(p.shape[0], -1)
         for k, i in enumerate(np.asarray(robots).tolist()):
+            if not self._within_reach(i, p[k], abs(step[k])):
+                continue
             placed = self._obstacles(i, p[k])
             if placed is None:
                 continue
@@ -124,6 +126,25 @@ class CollisionGuard:
                 dth[k], step[k] = 0.0, back
                 self.backed += 1
         return dth, step
+
+    def _within_reach(self, robot: int, pose: FloatArray, step: float) -> bool:
+        """Whether an arc of length ``step`` from ``pose`` could reach a remembered point's
+        box or, in an arena, its border (a cheap test that skips the swept check exactly: no
+        point of the body leaves the disc of ``step`` plus its half-diagonal about its
+        start, and a point's box, shifted inside the arena by at most its half-width, from
+        the square of twice that about the point); False without points, as
+        :meth:`_obstacles` gives no world then."""
+        seen = [points for points in self.recent[robot] if len(points)]
+        if not seen:
+            return False
+        reach = step + self.profile.half_diagonal + 2.0 * math.sqrt(2.0) * self.half + 1e-9
+        x, y = float(pose[0]), float(pose[1])
+        if self.size is not None and min(x, y, self.size - x, self.size - y) <= reach:
+            return True
+        return any(
+            bool((np.square(points - pose[:2]).sum(axis=1) <= reach * reach).any())
+            for points in seen
+        )
 
     def _obstacles(
         self, robot: int, pose: FloatArray, behind: bool = False
