@@ -15,6 +15,7 @@ from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist
 from memory_support import latch
 from nav_msgs.msg import Odometry
+from nav_msgs.msg import Path as PathMsg
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from ros_support import REGRESSION, Graph, params, run_executable
@@ -24,6 +25,8 @@ from visualization_msgs.msg import MarkerArray
 
 from mentor_core.errors import ConfigError, FileFormatError, MentorError
 from mentor_core.files.genome_file import save_genome
+from mentor_core.navigation.guide import guide_config
+from mentor_core.runtime.guided_planner import GuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.wiring import Wiring, wire_pose
 from mentor_core.sim.lidar import LidarSpec, lidar_scan
@@ -32,6 +35,7 @@ from mentor_core.sim.robots import get_profile, with_planner
 from mentor_core.sim.scan_adapter import LidarMount, readings_from_scan
 from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import World
+from mentor_planner_node.conversions import path_msg
 from mentor_planner_node.planner import QOS_COMMAND, QOS_LATCHED, PlannerNode
 from mentor_sim_node import conversions as sim_conv
 
@@ -391,6 +395,31 @@ def test_behind_a_collision_guard_the_node_backs_out_of_a_wedge(graph: Graph) ->
     assert got.linear.x < 0.0 and got.angular.z == 0.0
     unguarded = GenomePlanner.load(GENOME, "swarm").command(wire, pose, (3.0, 9.0))
     assert unguarded[0] > 0.0
+
+
+def test_along_a_given_path_the_node_decides_in_map_through_map_to_odom(graph: Graph) -> None:
+    """Failed before: the node steered along a path in ``map`` from the odometry's pose, as if
+    ``odom`` were ``map``; a localiser's ``map -> odom`` then put the robot elsewhere on it."""
+    planner = _planner(graph, global_plan=True, map_topic="/no_map_here", use_tf=False,
+                       map_to_odom=[1.0, 0.5, 0.3])  # fmt: skip
+    robot = Robot(graph)
+    give = robot.node.create_publisher(PathMsg, f"{NS}/plan", 1)
+    points = np.array([(1.0, 1.0), (3.0, 1.0), (3.0, 3.0)])  # in map
+    assert graph.spin_until(lambda: give.get_subscription_count() > 0)
+    give.publish(path_msg(points, Time()))
+    assert graph.spin_until(lambda: planner.global_plan is not None and planner.global_plan.ready)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 3.0), Time()))  # in map
+    pose = (0.4, 0.1, -0.2)  # in odom
+    got = _answered(graph, robot, planner, 0, [0.5, 0.5, 0.5], pose)
+    to_map = Transform2D(1.0, 0.5, 0.3)
+    reference = GuidedPlanner(GenomePlanner.load(GENOME, "swarm"), guide_config(SWARM))
+    reference.set_path(points)
+    dtheta, ds = reference.decide([0.5, 0.5, 0.5], to_map.apply_pose(pose), (3.0, 3.0))
+    period = planner.control_period
+    assert (got.linear.x, got.angular.z) == pytest.approx((ds / period, dtheta / period))
+    # the carrot was taken from where the robot stands in map
+    assert planner.global_plan.planner.guide.carrot == pytest.approx(  # type: ignore[union-attr]
+        reference.guide.carrot)
 
 
 def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(

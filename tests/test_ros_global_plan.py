@@ -124,7 +124,7 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     assert graph.spin_until(lambda: sim.finished)
     graph.spin_until(lambda: bool(paths), timeout=2.0)
     assert planner.zero_commands == 0
-    assert paths and paths[-1].header.frame_id == "map"  # the plans it followed, for RViz
+    assert paths and paths[-1].header.frame_id == "odom"  # the plans it followed, for RViz
 
     # the same episode in process: the genome behind the shim and a guard on no arena, on
     # the map of what it read, as mentor-bench --scan-map --rotation-shim 45 runs it

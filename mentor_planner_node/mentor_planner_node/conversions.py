@@ -229,14 +229,14 @@ def path_from_msg(msg: Path) -> NDArray[np.float64]:
     return points
 
 
-def path_msg(points: ArrayLike, stamp: Time) -> Path:
-    """A ``nav_msgs/Path`` in ``map`` through ``points`` ``(k, 2)`` (m); each pose faces
-    along its segment (the last one along the last segment)."""
+def path_msg(points: ArrayLike, stamp: Time, frame_id: str = MAP_FRAME) -> Path:
+    """A ``nav_msgs/Path`` in ``frame_id`` (default ``map``) through ``points`` ``(k, 2)``
+    (m); each pose faces along its segment (the last one along the last segment)."""
     p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     step = np.diff(p, axis=0)
     yaws = np.arctan2(step[:, 1], step[:, 0]) if len(p) > 1 else np.zeros(0)
     yaws = np.append(yaws, yaws[-1] if len(yaws) else 0.0)
-    header = Header(stamp=stamp, frame_id=MAP_FRAME)
+    header = Header(stamp=stamp, frame_id=frame_id)
     poses = []
     for (x, y), yaw in zip(p.tolist(), yaws.tolist(), strict=True):
         qx, qy, qz, qw = yaw_to_quaternion(yaw)

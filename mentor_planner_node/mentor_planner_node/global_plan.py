@@ -7,7 +7,10 @@ and steers its network towards the point ``lookahead`` m along that path
 (:class:`mentor_core.GuidedPlanner`); it publishes the path it follows on ``global_plan``
 (latched, for RViz). Until a map or a path has come it does not decide (as Nav2's controller
 has nothing to follow): an observation waits for it, and the node's watchdog sends zero
-Twists with a warning if it does not come.
+Twists with a warning if it does not come. The map and the path are in ``map``, so the node
+decides there: the odometry's pose and the goal are taken into ``map`` through ``map -> odom``
+(TF, or the ``map_to_odom`` parameter), and a localiser's correction of ``map -> odom`` moves
+the robot on the map, not the map under the robot.
 
 With ``scan_map`` it plans instead on a map of what its own scans read, unknown space free
 (:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --scan-map`` runs the planners): a
@@ -26,6 +29,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Path
 from numpy.typing import ArrayLike
@@ -38,6 +42,7 @@ from mentor_core import (
     GenomePlanner,
     GuidedPlanner,
     MentorError,
+    PlannerFrames,
     ScanGuidedPlanner,
     guide_config,
     scan_guide_config,
@@ -76,10 +81,12 @@ class GlobalPlan:
         self,
         node: Node,
         planner: GenomePlanner,
+        frames: PlannerFrames,
         values: dict[str, Any],
         on_ready: Callable[[], None],
     ) -> None:
         self._node = node
+        self._frames = frames
         self._on_ready = on_ready
         self._log = node.get_logger()
         self._genome = planner
@@ -142,14 +149,24 @@ class GlobalPlan:
             self._genome.reset()
 
     def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
-        """The guided decision; a new path is published once on ``global_plan``."""
+        """The guided decision for ``pose`` and ``goal`` in the odometry frame (module
+        docstring: along a plan on a map it decides in ``map``, on a scan map in the odometry
+        frame); a new path is published once on ``global_plan``, in the frame it decides in.
+        LookupError: ``map -> odom`` is not known."""
         assert self.planner is not None  # the node decides only when ready
+        frame = self._frames.odom_frame
+        if isinstance(self.planner, GuidedPlanner):
+            frame = self._frames.map_frame
+            to_map = self._frames.transform(frame, self._frames.odom_frame)
+            p = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
+            g = np.asarray(goal, dtype=np.float64).reshape(2).tolist()
+            pose, goal = to_map.apply_pose(p), to_map.apply_point(g)
         decision = self.planner.decide(ranges, pose, goal)
         guide = self.planner.guide
         if guide.revision != self._published and guide.path is not None:
             self._published = guide.revision
             stamp = self._node.get_clock().now().to_msg()
-            self._path_pub.publish(conversions.path_msg(guide.path, stamp))
+            self._path_pub.publish(conversions.path_msg(guide.path, stamp, frame))
         return decision
 
     def _on_map(self, msg: OccupancyGridMsg) -> None:
@@ -175,8 +192,9 @@ class GlobalPlan:
 
 
 def attach(
-    node: Node, planner: GenomePlanner | None, on_ready: Callable[[], None]
-) -> GlobalPlan | None:
+    node: Node, planner: GenomePlanner | None, frames: PlannerFrames,
+    on_ready: Callable[[], None],
+) -> GlobalPlan | None:  # fmt: skip
     """Declare the global-plan parameters (defaults from the robot, ``docs/ros.md``); a
     :class:`GlobalPlan` when ``global_plan`` is true and a genome is loaded, else None.
     ``on_ready`` is called when a map or a path comes (a waiting observation may go)."""
@@ -227,4 +245,4 @@ def attach(
         raise PlanSetupError("global_plan and scan_map: choose one plan to follow")
     if not (values["global_plan"] or values["scan_map"]) or planner is None:
         return None
-    return GlobalPlan(node, planner, values, on_ready)
+    return GlobalPlan(node, planner, frames, values, on_ready)

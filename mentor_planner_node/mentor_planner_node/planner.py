@@ -127,7 +127,7 @@ class PlannerNode(Node):
         self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
         self.arena: Bounds | None = None
         #: the global plan (parameter global_plan), None without
-        self.global_plan = global_plan.attach(self, self.planner, self._answer)
+        self.global_plan = global_plan.attach(self, self.planner, self.frames, self._answer)
         self.decisions = 0
         self.zero_commands = 0
         self.goals_reached = 0
@@ -313,7 +313,7 @@ class PlannerNode(Node):
             decide = decider.decide
             dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)
             twist = conversions.twist_from_action(dtheta, ds, self.control_period)
-        except ValueError as err:
+        except (ValueError, LookupError) as err:  # LookupError: map -> odom for a global plan
             self._send_zero(f"no decision ({err})")
             return
         self._cmd_pub.publish(twist)
