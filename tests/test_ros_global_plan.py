@@ -52,6 +52,21 @@ def _planner(graph: Graph, **extra: object) -> PlannerNode:
     )
 
 
+def _run_one_episode(graph: Graph, world: Path, bag: Path) -> SimNode:
+    """The simulator running the world file's one UGV episode to its end, recorded in ``bag``."""
+    sim = graph.add(
+        SimNode(
+            context=graph.context,
+            parameter_overrides=params(
+                robots=["robot_0"], profiles=["ugv"], world=str(world),
+                episodes=1, record=str(bag), time_limit=50.0,
+            ),
+        )
+    )
+    assert graph.spin_until(lambda: sim.finished)
+    return sim
+
+
 def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
     graph: Graph, tmp_path: Path
 ) -> None:
@@ -64,16 +79,7 @@ def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
     probe.create_subscription(OccupancyGridMsg, "/map", maps.append, QOS_MAP)
     probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
     planner = _planner(graph, global_plan=True)
-    sim = graph.add(
-        SimNode(
-            context=graph.context,
-            parameter_overrides=params(
-                robots=["robot_0"], profiles=["ugv"], world=str(tmp_path / "world.yaml"),
-                episodes=1, record=str(bag), time_limit=50.0,
-            ),
-        )
-    )
-    assert graph.spin_until(lambda: sim.finished)
+    sim = _run_one_episode(graph, tmp_path / "world.yaml", bag)
     graph.spin_until(lambda: bool(maps) and bool(paths), timeout=2.0)
     assert [o.event for o in sim.outcomes] == ["reached"]
     assert planner.zero_commands == 0
@@ -112,18 +118,9 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
     planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True)
     assert planner.global_plan is not None and not planner.global_plan.ready  # no arena yet
-    sim = graph.add(
-        SimNode(
-            context=graph.context,
-            parameter_overrides=params(
-                robots=["robot_0"], profiles=["ugv"], world=str(tmp_path / "world.yaml"),
-                episodes=1, record=str(bag), time_limit=50.0,
-            ),
-        )
-    )
-    assert graph.spin_until(lambda: sim.finished)
+    sim = _run_one_episode(graph, tmp_path / "world.yaml", bag)
     graph.spin_until(lambda: bool(paths), timeout=2.0)
-    assert planner.zero_commands == 0
+    assert planner.zero_commands == 0 and len(sim.outcomes) == 1
     assert paths and paths[-1].header.frame_id == "odom"  # the plans it followed, for RViz
 
     # the same episode in process: the genome behind the shim and a guard on no arena, on
