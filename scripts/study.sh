@@ -8,6 +8,11 @@
 #   ones; a CONFIGS word is a shipped config name or a YAML file, labelled by its stem).
 # Runs go to OUT/<config>/<robot>-<framework>-s<seed>; finished ones are kept, interrupted
 # ones resume. Nothing here chooses a setting: the test split and the bags are only reported.
+# The benchmark also runs every planner on its scan map, behind the rotation shim and behind
+# the collision guard (STUDY_BENCH_FLAGS, default "--scan-map --rotation-shim 45
+# --collision-guard": the rows of benchmarks/RESULTS.md's headline tables beside the plain
+# ones; "" for the plain rows only), and the unseen bags are scored a second time that way
+# (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-...").
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
@@ -18,6 +23,7 @@ SEEDS="${2:-1 2 3}"
 JOBS="${3:-2}"
 CONFIGS="${4:-original paper}"
 PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family
+read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---scan-map --rotation-shim 45 --collision-guard}"
 BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
 label() { basename "${1%.yaml}"; }
@@ -44,10 +50,20 @@ for robot in ugv swarm; do
   # --force: an earlier study's evaluation in OUT is redone from its runs
   "$BIN/mentor-eval" "${genomes[@]}" "${labels[@]}" --bag "$ROOT/bags/unseen/$robot" \
     --out "$OUT/eval_unseen_$robot.json" --force > "$OUT/eval_unseen_$robot.txt"
+  extra+=(--eval "$OUT/eval_unseen_$robot.json")
+  if [ "${#BENCH_FLAGS[@]}" -gt 0 ]; then
+    deployed=()
+    for ((i = 0; i < ${#labels[@]}; i += 2)); do deployed+=(--label "deployed-${labels[i + 1]}"); done
+    "$BIN/mentor-eval" "${genomes[@]}" "${deployed[@]}" --bag "$ROOT/bags/unseen/$robot" \
+      "${BENCH_FLAGS[@]}" --out "$OUT/eval_unseen_${robot}_deployed.json" --force \
+      > "$OUT/eval_unseen_${robot}_deployed.txt"
+    extra+=(--eval "$OUT/eval_unseen_${robot}_deployed.json")
+  fi
   rm -rf "$OUT/bench_$robot"
   "$BIN/mentor-bench" "${genomes[@]}" "${labels[@]}" --robot "$robot" --split test \
-    --pairs-per-family "$PAIRS" --out "$OUT/bench_$robot" > "$OUT/bench_$robot.txt"
-  extra+=(--eval "$OUT/eval_unseen_$robot.json" --bench "$OUT/bench_$robot/bench.json")
+    --pairs-per-family "$PAIRS" "${BENCH_FLAGS[@]}" --out "$OUT/bench_$robot" \
+    > "$OUT/bench_$robot.txt"
+  extra+=(--bench "$OUT/bench_$robot/bench.json")
 done
 "$BIN/mentor-report" "${runs[@]}" "${extra[@]}" --out "$OUT/report" --force
 echo "study: report at $OUT/report/report.md" >&2
