@@ -3,9 +3,11 @@ the simulator (mentor_core.runtime.goal_intake), with and without a TF lookup.""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
-from mentor_core.runtime.goal_intake import bounds_fault, same_goal
+from mentor_core.runtime.goal_intake import bounds_fault, bounds_in, same_goal
 from mentor_core.runtime.planner_frames import PlannerFrames
 from mentor_core.sim.scan_adapter import LidarMount
 from mentor_core.sim.transforms import FrameTree, Transform2D
@@ -68,3 +70,14 @@ def test_goal_checks() -> None:
     assert bounds_fault((2.0, 30.0), None) == ""  # no known area: no check
     assert same_goal((1.0, 1.0), (1.0, 1.0 + 1e-12)) and not same_goal((1.0, 1.0), (1.0, 1.1))
     assert same_goal(None, None) and not same_goal(None, (0.0, 0.0))
+
+
+def test_an_area_seen_from_a_turned_frame_is_the_box_about_its_corners() -> None:
+    arena = (0.0, 0.0, 4.0, 2.0)
+    assert bounds_in(arena, Transform2D(0.0, 0.0, 0.0)) == arena
+    assert bounds_in(arena, Transform2D(-1.0, 0.5, 0.0)) == (-1.0, 0.5, 3.0, 2.5)
+    # a quarter turn: x' = -y, y' = x
+    assert bounds_in(arena, Transform2D(0.0, 0.0, math.pi / 2)) == pytest.approx((-2, 0, 0, 4))
+    # an eighth: the box about the turned rectangle is larger than it
+    x0, y0, x1, y1 = bounds_in(arena, Transform2D(0.0, 0.0, math.pi / 4))
+    assert (x1 - x0, y1 - y0) == pytest.approx((6 / math.sqrt(2), 6 / math.sqrt(2)))

@@ -422,6 +422,19 @@ def test_along_a_given_path_the_node_decides_in_map_through_map_to_odom(graph: G
         reference.guide.carrot)
 
 
+def test_a_scan_map_of_size_0_covers_the_arena_in_the_odometry_frame(graph: Graph) -> None:
+    planner = _planner(graph, scan_map=True, use_tf=False, map_to_odom=[1.0, 0.5, math.pi / 2])
+    assert planner.global_plan is not None and not planner.global_plan.ready
+    arena = graph.probe("sim_markers").create_publisher(MarkerArray, "/mentor/obstacles",
+                                                        QOS_LATCHED)  # fmt: skip
+    arena.publish(sim_conv.markers_from_world(World(4.0)))
+    assert graph.spin_until(lambda: planner.global_plan.ready)  # type: ignore[union-attr]
+    scan = planner.global_plan.planner.scan.map  # type: ignore[union-attr]
+    # odom sits at (1, 0.5) in map, turned a quarter: map's [0, 4]^2 is [-0.5, 3.5] x [-3, 1]
+    assert scan.origin == pytest.approx((-0.5, -3.0))
+    assert scan.hits.shape[0] * scan.resolution == pytest.approx(4.0)
+
+
 def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(
     graph: Graph, tmp_path: Path
 ) -> None:

@@ -15,8 +15,8 @@ the robot on the map, not the map under the robot.
 With ``scan_map`` it plans instead on a map of what its own scans read, unknown space free
 (:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --scan-map`` runs the planners): a
 square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
-odometry frame), or with a size of 0 the simulator's arena (``/mentor/obstacles``; the
-simulator's odometry frame is ``map``), which it waits for. The map starts empty at each new
+odometry frame), or with a size of 0 the square about the simulator's arena
+(``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each new
 goal or episode, as each benchmark episode does.
 
 Everything computed is ``mentor_core``; this module declares the parameters, makes the topics
@@ -44,6 +44,7 @@ from mentor_core import (
     MentorError,
     PlannerFrames,
     ScanGuidedPlanner,
+    bounds_in,
     guide_config,
     scan_guide_config,
 )
@@ -91,6 +92,7 @@ class GlobalPlan:
         self._log = node.get_logger()
         self._genome = planner
         self.scan_map = bool(values["scan_map"])
+        self._arena: Bounds | None = None  # the simulator's, for a scan map of size 0
         #: the planner deciding (None: a scan map waiting for the arena)
         self.planner: GuidedPlanner | ScanGuidedPlanner | None = None
         self._published = 0
@@ -120,7 +122,10 @@ class GlobalPlan:
 
     @property
     def ready(self) -> bool:
-        """There is something to follow: a map or a path has come, or a scan map is set up."""
+        """There is something to follow: a map or a path has come, or a scan map is set up
+        (on the simulator's arena: once it and ``map -> odom`` are known)."""
+        if self.scan_map and self.planner is None and self._arena is not None:
+            self._map_arena()
         if isinstance(self.planner, ScanGuidedPlanner):
             return True
         guide = None if self.planner is None else self.planner.guide
@@ -132,14 +137,28 @@ class GlobalPlan:
             "no map or path to follow yet (global_plan)")
 
     def on_arena(self, arena: Bounds | None) -> None:
-        """The simulator's arena: the scan map's square where ``scan_map_size`` is 0."""
+        """The simulator's arena (in ``map``): the scan map's square where ``scan_map_size``
+        is 0."""
         if not self.scan_map or self.planner is not None or arena is None:
             return
-        xmin, ymin, xmax, ymax = arena
+        self._arena = arena
+        if self._map_arena():
+            self._on_ready()
+
+    def _map_arena(self) -> bool:
+        """Set up the scan map on the square about the arena in the odometry frame; False
+        while ``map -> odom`` is not known (tried again at the next observation)."""
+        assert self._arena is not None
+        try:
+            to_odom = self._frames.transform(self._frames.odom_frame, self._frames.map_frame)
+        except LookupError:
+            return False
+        xmin, ymin, xmax, ymax = bounds_in(self._arena, to_odom)
         size = max(xmax - xmin, ymax - ymin)
         self.planner = ScanGuidedPlanner(self._genome, self._config, size, (xmin, ymin))
-        self._log.info(f"scan map of the arena: {size:g} m from ({xmin:g}, {ymin:g})")
-        self._on_ready()
+        self._log.info(f"scan map of the arena: {size:g} m from ({xmin:g}, {ymin:g}) in "
+                       f"{self._frames.odom_frame!r}")  # fmt: skip
+        return True
 
     def reset(self) -> None:
         """Start the planner blank (a new goal or episode; a scan map starts empty)."""

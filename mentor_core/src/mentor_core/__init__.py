@@ -132,6 +132,7 @@ _EXPORTS: dict[str, str] = {
     "parameter_fault": "mentor_core.runtime.ros_arguments",
     "ContinuousConfig": "mentor_core.runtime.session_config",
     "bounds_fault": "mentor_core.runtime.goal_intake",
+    "bounds_in": "mentor_core.runtime.goal_intake",
     "Bounds": "mentor_core.runtime.goal_intake",
     # report
     "write_report": "mentor_core.report.markdown",
@@ -280,6 +281,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.goal_intake import (
         bounds_fault as bounds_fault,
+    )
+    from mentor_core.runtime.goal_intake import (
+        bounds_in as bounds_in,
     )
     from mentor_core.runtime.guided_planner import (
         GuidedPlanner as GuidedPlanner,

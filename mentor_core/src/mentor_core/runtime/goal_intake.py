@@ -64,6 +64,16 @@ def bounds_fault(goal: Sequence[float], bounds: Bounds | None) -> str:
     )
 
 
+def bounds_in(bounds: Bounds, transform: Transform2D) -> Bounds:
+    """The axis-aligned box ``(xmin, ymin, xmax, ymax)`` about ``bounds``' four corners as
+    ``transform`` carries them into another frame (its pose of the bounds' frame there): the
+    area, such as the arena, seen from a frame turned against ``map``."""
+    x0, y0, x1, y1 = bounds
+    corners = [transform.apply_point(c) for c in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    xs, ys = [c[0] for c in corners], [c[1] for c in corners]
+    return (min(xs), min(ys), max(xs), max(ys))
+
+
 def goal_in_map(
     tree: FrameTree, frame: str, xy: Sequence[float], arena_size: float
 ) -> tuple[tuple[float, float] | None, str]:
