@@ -6,7 +6,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
+from mentor_core.navigation import grid_planner
 from mentor_core.navigation.follow import cumulative_length, point_at
 from mentor_core.navigation.grid import UNKNOWN, OccupancyGrid, world_grid
 from mentor_core.navigation.grid_planner import GridPlanner, plan_path
@@ -106,6 +108,31 @@ def test_crossed_cells_are_exactly_the_cells_a_segment_enters() -> None:
     ]  # through the corner (2, 1): the two cells it only touches are not entered
     rows, cols = planner.crossed_cells((0.5, 0.5), (0.5, 3.2))
     assert cols.tolist() == [0, 0, 0, 0] and rows.tolist() == [0, 1, 2, 3]
+
+
+def test_the_compiled_line_of_sight_is_the_crossed_cells_test(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # visible() runs a compiled kernel (a scan map's hot spot); it must answer as the
+    # crossed cells do, on grids turned and moved, segments on grid lines included
+    rng = np.random.default_rng(7)
+    boxes = rng.uniform(0.0, 11.0, (30, 2))
+    world = World(12.0, np.c_[boxes, np.minimum(boxes + rng.uniform(0.1, 1.0, (30, 2)), 12.0)])
+    segments = rng.uniform(-1.0, 13.0, (600, 4))
+    segments[:200] = np.round(segments[:200] / 0.1) * 0.1  # ends on cell corners
+    segments[200:300, 3] = segments[200:300, 1]  # along a row
+    for origin in ((0.0, 0.0, 0.0), (1.3, -2.1, 0.6)):
+        grid = world_grid(world, 0.1)
+        planner = GridPlanner(OccupancyGrid(0.1, origin, grid.data), 0.2)
+        seen = {}
+        for fallback in (False, True):
+            if fallback:
+                monkeypatch.setattr(grid_planner, "_sight_numba", None)
+            seen[fallback] = [planner.visible(s[:2], s[2:], radius)
+                              for s in segments for radius in (None, 0.1)]  # fmt: skip
+        assert seen[False] == seen[True]
+        assert 0 < sum(seen[True]) < len(seen[True])  # both answers occur
+        monkeypatch.undo()
 
 
 def test_planning_on_a_rotated_map() -> None:

@@ -26,6 +26,7 @@ NavFn default), obstacles otherwise.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -72,6 +73,9 @@ class GridPlanner:
         self.clearance: FloatArray = ndimage.distance_transform_edt(~blocked)[1:-1, 1:-1] * r
         #: (height, width): cells a disc of ``radius`` may stand on anywhere
         self.traversable: BoolArray = self.free_for(self.radius)
+        self._traversable_values = self.traversable.astype(np.float64)  # 1 / 0, for _sight
+        x0, y0, yaw = grid.origin  # OccupancyGrid.to_local's terms, for _sight
+        self._frame = (float(x0), float(y0), math.cos(yaw), math.sin(yaw), grid.resolution)
         self._node = np.full(self.traversable.shape, -1, dtype=np.int64)
         self._node[self.traversable] = np.arange(int(self.traversable.sum()))
         self._graph = self._build_graph()
@@ -167,6 +171,14 @@ class GridPlanner:
     def visible(self, a: ArrayLike, b: ArrayLike, radius: float | None = None) -> bool:
         """Whether a disc of ``radius`` m (None: the planner's) may travel the segment
         ``a -> b``: every cell it crosses is free for it (:meth:`free_for`)."""
+        if _sight_numba is not None:  # the same cells and tests, compiled (a scan map's hot spot)
+            if radius is None:
+                values, need = self._traversable_values, 0.5
+            else:
+                values, need = self.clearance, radius + _SQRT2 * self.grid.resolution
+            pa, pb = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+            return bool(_sight_numba(float(pa[0]), float(pa[1]), float(pb[0]), float(pb[1]),
+                                     *self._frame, values, need))  # fmt: skip
         rows, cols = self.crossed_cells(a, b)
         h, w = self.traversable.shape
         if rows.min() < 0 or cols.min() < 0 or rows.max() >= h or cols.max() >= w:
@@ -191,6 +203,49 @@ class GridPlanner:
         mid = p + ((t[:-1] + t[1:]) / 2.0)[:, None] * d if len(t) > 1 else p[None, :]
         cells = np.floor(mid).astype(np.int64)
         return cells[:, 1], cells[:, 0]
+
+
+def _sight(
+    ax: float, ay: float, bx: float, by: float, x0: float, y0: float, c: float, s: float,
+    r: float, values: FloatArray, need: float,
+) -> bool:  # fmt: skip
+    """:meth:`GridPlanner.visible` of the segment ``a -> b`` (``map``) on a grid of origin
+    ``(x0, y0)``, heading ``(cos, sin) = (c, s)`` and cells of ``r`` m: every cell of
+    :meth:`GridPlanner.crossed_cells` (the same arithmetic) lies on the grid and holds a
+    value of at least ``need``."""
+    px, py = (c * (ax - x0) + s * (ay - y0)) / r, (-s * (ax - x0) + c * (ay - y0)) / r
+    qx, qy = (c * (bx - x0) + s * (by - y0)) / r, (-s * (bx - x0) + c * (by - y0)) / r
+    p, q = (px, py), (qx, qy)
+    d = (qx - px, qy - py)
+    counts, first = [0, 0], [0.0, 0.0]
+    for k in range(2):
+        if d[k] != 0.0:  # the grid lines it crosses across axis k
+            first[k] = float(math.ceil(min(p[k], q[k])))
+            counts[k] = max(0, math.floor(max(p[k], q[k])) - math.ceil(min(p[k], q[k])) + 1)
+    ts = np.empty(2 + counts[0] + counts[1], dtype=np.float64)
+    ts[0], ts[1] = 0.0, 1.0
+    n = 2
+    for k in range(2):
+        for i in range(counts[k]):
+            ts[n] = ((first[k] + i) - p[k]) / d[k]
+            n += 1
+    t = np.unique(np.minimum(np.maximum(ts, 0.0), 1.0))
+    h, w = values.shape
+    for i in range(len(t) - 1):
+        m = (t[i] + t[i + 1]) / 2.0
+        col, row = math.floor(px + m * d[0]), math.floor(py + m * d[1])
+        if row < 0 or col < 0 or row >= h or col >= w or not values[row, col] >= need:
+            return False
+    return True
+
+
+_sight_numba: Callable[..., bool] | None
+try:
+    from numba import njit
+
+    _sight_numba = njit(cache=True)(_sight)
+except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
+    _sight_numba = None
 
 
 def plan_path(
