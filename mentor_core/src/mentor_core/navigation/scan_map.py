@@ -91,13 +91,15 @@ class ScanMap:
         ys = f[:, 1, None] + sin[:, None] * t
         rows, cols = self._cells(ys, f[:, 0, None] + cos[:, None] * t)
         ray = np.broadcast_to(np.arange(len(f))[:, None], along.shape)
-        # a ray counts once per cell it passes
-        passed = np.unique(np.stack([ray[along], rows[along], cols[along]]), axis=1)
-        np.add.at(self.misses, (passed[1], passed[2]), 1)
+        n = self.hits.shape[0]
+        cells = n * n
+        # a ray counts once per cell it passes (keys: ray, then the cell's flat index)
+        passed = np.unique((ray[along] * n + rows[along]) * n + cols[along]) % cells
+        np.add.at(self.misses.reshape(-1), passed, 1)  # a view: the counts themselves
         hit &= marks
         ends = self._cells(f[hit, 1] + sin[hit] * reach[hit], f[hit, 0] + cos[hit] * reach[hit])
-        cells = np.unique(np.stack(ends), axis=1)  # a cell hit by several rays of a cone: once
-        np.add.at(self.hits, (cells[0], cells[1]), 1)
+        ended = np.unique(ends[0] * n + ends[1])  # a cell hit by several rays of a cone: once
+        np.add.at(self.hits.reshape(-1), ended, 1)
         rows, cols = np.nonzero(self._occupied() & ~before)
         return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution + self.origin
 
