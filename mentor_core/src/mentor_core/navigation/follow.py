@@ -35,10 +35,23 @@ def cumulative_length(path: ArrayLike) -> FloatArray:
     return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
 
 
-def progress(path: ArrayLike, xy: ArrayLike, from_s: float = 0.0) -> float:
-    """Arc length (m) of the path's point nearest to ``xy``, searched from ``from_s`` on."""
+def _path_and_lengths(
+    path: ArrayLike, lengths: FloatArray | None
+) -> tuple[FloatArray, FloatArray]:
+    """The checked path and its :func:`cumulative_length`, or, with ``lengths`` (the caller's
+    for this path, checked when it was computed), the path as it is and them."""
+    if lengths is not None:
+        return np.asarray(path, dtype=np.float64), lengths
     p = as_path(path)
-    s = cumulative_length(p)
+    return p, cumulative_length(p)
+
+
+def progress(
+    path: ArrayLike, xy: ArrayLike, from_s: float = 0.0, lengths: FloatArray | None = None
+) -> float:
+    """Arc length (m) of the path's point nearest to ``xy``, searched from ``from_s`` on;
+    ``lengths``: the path's :func:`cumulative_length`, when the caller has it."""
+    p, s = _path_and_lengths(path, lengths)
     if len(p) == 1:
         return 0.0
     q = np.asarray(xy, dtype=np.float64)[:2]
@@ -59,10 +72,12 @@ def progress(path: ArrayLike, xy: ArrayLike, from_s: float = 0.0) -> float:
     return float(s_on[int(np.argmin(dist))])
 
 
-def point_at(path: ArrayLike, s_query: float) -> tuple[float, float]:
-    """The path's point at arc length ``s_query`` (m), clamped to ``[0, L]``."""
-    p = as_path(path)
-    s = cumulative_length(p)
+def point_at(
+    path: ArrayLike, s_query: float, lengths: FloatArray | None = None
+) -> tuple[float, float]:
+    """The path's point at arc length ``s_query`` (m), clamped to ``[0, L]``; ``lengths``:
+    the path's :func:`cumulative_length`, when the caller has it."""
+    p, s = _path_and_lengths(path, lengths)
     q = float(np.clip(s_query, 0.0, s[-1]))
     x = float(np.interp(q, s, p[:, 0]))
     y = float(np.interp(q, s, p[:, 1]))
@@ -70,12 +85,15 @@ def point_at(path: ArrayLike, s_query: float) -> tuple[float, float]:
 
 
 def lookahead_point(
-    path: ArrayLike, xy: ArrayLike, lookahead: float, from_s: float = 0.0
-) -> tuple[tuple[float, float], float]:
+    path: ArrayLike, xy: ArrayLike, lookahead: float, from_s: float = 0.0,
+    lengths: FloatArray | None = None,
+) -> tuple[tuple[float, float], float]:  # fmt: skip
     """``(carrot, s*)``: the point ``lookahead`` m along the path past the robot's progress
     ``s*`` (the nearest point at or after ``from_s``), and that progress, to pass as the next
-    call's ``from_s``."""
+    call's ``from_s``; ``lengths``: the path's :func:`cumulative_length`, when the caller has
+    it."""
     if not lookahead > 0.0:
         raise ValueError(f"lookahead must be positive, got {lookahead}")
-    s_star = progress(path, xy, from_s)
-    return point_at(path, s_star + lookahead), s_star
+    p, s = _path_and_lengths(path, lengths)
+    s_star = progress(p, xy, from_s, s)
+    return point_at(p, s_star + lookahead, s), s_star

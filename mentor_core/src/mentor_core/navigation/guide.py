@@ -129,6 +129,7 @@ class PathGuide:
         self._goal: XY | None = None
         self._failed: XY | None = None  # a goal no plan was found for
         self._from_s = 0.0
+        self._lengths: FloatArray | None = None  # the path's cumulative lengths
         self._length = 0.0
 
     def set_map(self, grid: OccupancyGrid) -> None:
@@ -149,7 +150,8 @@ class PathGuide:
     def _set(self, path: FloatArray | None) -> None:
         self.path = path
         self._from_s = 0.0
-        self._length = 0.0 if path is None else float(cumulative_length(path)[-1])
+        self._lengths = None if path is None else cumulative_length(path)
+        self._length = 0.0 if self._lengths is None else float(self._lengths[-1])
         self._given = False
         if path is not None:
             self.revision += 1
@@ -177,8 +179,10 @@ class PathGuide:
             self._plan(here, final)
         if self.path is None:
             return final
-        carrot, s = lookahead_point(self.path, here, self.config.lookahead, self._from_s)
-        off = math.dist(here, point_at(self.path, s))
+        carrot, s = lookahead_point(
+            self.path, here, self.config.lookahead, self._from_s, self._lengths
+        )
+        off = math.dist(here, point_at(self.path, s, self._lengths))
         if off > self.config.replan_distance and self.planner is not None and not self._given:
             path = self.planner.plan(here, final)  # none from here: keep the old one
             if path is not None:
@@ -202,7 +206,7 @@ class PathGuide:
             return carrot
         assert self.path is not None
         points = [
-            point_at(self.path, s + self.config.lookahead * k / _SIGHT_STEPS)
+            point_at(self.path, s + self.config.lookahead * k / _SIGHT_STEPS, self._lengths)
             for k in range(_SIGHT_STEPS, 0, -1)
         ]
         for radius in (None, self.config.radius):

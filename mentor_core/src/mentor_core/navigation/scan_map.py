@@ -19,7 +19,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.navigation.follow import point_at, progress
+from mentor_core.navigation.follow import cumulative_length, point_at, progress
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 from mentor_core.navigation.guide import GuideConfig, PathGuide, guide_config
 from mentor_core.sim.robots import RobotProfile
@@ -174,7 +174,8 @@ def _near(cells: FloatArray, path: FloatArray, config: GuideConfig) -> bool:
     """Whether a cell centre lies within the planner's disc plus a cell of the path (its
     nearest point on the path, :func:`~mentor_core.navigation.follow.progress`)."""
     reach = config.inflation + config.resolution
-    return any(math.dist(c, point_at(path, progress(path, c))) <= reach for c in cells)
+    s = cumulative_length(path)
+    return any(math.dist(c, point_at(path, progress(path, c, 0.0, s), s)) <= reach for c in cells)
 
 
 def scan_guided_goals(
