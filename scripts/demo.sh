@@ -25,11 +25,12 @@ for fw in single dual; do
     exit 1
   fi
 done
-echo "== evaluating both best genomes on the unseen environment bags/unseen/swarm" >&2
+echo "== evaluating both best genomes on the unseen environment bags/unseen/swarm" \
+  "(plain, and along a plan on the map of their own readings)" >&2
 # --force: the evaluation of an earlier demo in OUT is redone from its runs
 "$BIN/mentor-eval" "$OUT/swarm-single/best_genome.json" "$OUT/swarm-dual/best_genome.json" \
-  --bag "$ROOT/bags/unseen/swarm" --label single --label dual --out "$OUT/eval_unseen.json" \
-  --force
+  --bag "$ROOT/bags/unseen/swarm" --label single --label dual --scan-map \
+  --out "$OUT/eval_unseen.json" --force
 echo "== writing the report" >&2
 "$BIN/mentor-report" "$OUT/swarm-single" "$OUT/swarm-dual" --eval "$OUT/eval_unseen.json" \
   --out "$OUT/report"
