@@ -98,7 +98,7 @@ class GlobalPlan:
         self._published = 0
         self._path_pub = node.create_publisher(Path, "global_plan", QOS_PATH_OUT)
         if self.scan_map:
-            self._config = scan_guide_config(planner.profile, lookahead=float(values["lookahead"]))
+            self._config = scan_guide_config(planner.profile, float(values["lookahead"]) or None)
             size = float(values["scan_map_size"])
             origin = [float(v) for v in values["scan_map_origin"]]
             if len(origin) != 2 or not all(math.isfinite(v) for v in origin):
@@ -109,7 +109,7 @@ class GlobalPlan:
             return
         config = guide_config(
             planner.profile,
-            lookahead=float(values["lookahead"]),
+            lookahead=float(values["lookahead"]) or None,
             replan_distance=float(values["replan_distance"]),
             margin=float(values["inflation_margin"]),
             allow_unknown=bool(values["allow_unknown"]),
@@ -226,8 +226,9 @@ def attach(
             ("map_topic", "/map", _descriptor("OccupancyGrid to plan on (latched)")),
             (
                 "lookahead",
-                defaults.lookahead if defaults else 1.0,
-                _descriptor("m along the path the network steers to", low=1e-3),
+                0.0,
+                _descriptor("m along the path the network steers to (0: 2 goal radii along "
+                            "a given path or map, 1.5 on a scan map)", low=0.0),
             ),
             (
                 "replan_distance",

@@ -164,10 +164,20 @@ def scan_map_resolution(profile: RobotProfile) -> float:
     return max(0.005, round(profile.half_diagonal / 2.0 / 0.005) * 0.005)
 
 
+#: the carrot's distance along a plan on the scan map, in goal radii (the world-map guide's:
+#: 2). Chosen on the validation split (``benchmarks/RESULTS.md``, "The carrot on the scan
+#: map"): the UGV's planners behind the shim and the guard reach 91 % with 1-1.5 radii, 89 %
+#: with 2 and 86 % with 4; the Swarm-Robot's are level (88 %) at 1.5 and 2.
+SCAN_LOOKAHEAD_RADII = 1.5
+
+
 def scan_guide_config(profile: RobotProfile, lookahead: float | None = None) -> GuideConfig:
     """The guide's settings on a scan map: :func:`~mentor_core.navigation.guide.guide_config`
-    with cells of :func:`scan_map_resolution` (``mentor-bench --scan-map``)."""
-    return guide_config(profile, lookahead=lookahead, resolution=scan_map_resolution(profile))
+    with cells of :func:`scan_map_resolution` and the carrot ``lookahead`` m along the plan
+    (default :data:`SCAN_LOOKAHEAD_RADII` goal radii; the distance off the plan before
+    planning again is the same) (``mentor-bench --scan-map``)."""
+    ahead = SCAN_LOOKAHEAD_RADII * profile.goal_radius if lookahead is None else lookahead
+    return guide_config(profile, lookahead=ahead, resolution=scan_map_resolution(profile))
 
 
 def _near(cells: FloatArray, path: FloatArray, config: GuideConfig) -> bool:
