@@ -26,16 +26,23 @@ DEFAULT_GENOMES = {r: ROOT / "bags" / "regression" / f"{r}_reference_genome.json
                    for r in ("ugv", "swarm")}  # fmt: skip
 
 
+def chosen_genomes(items: list[str]) -> dict[str, Path]:
+    """The genome per robot: the regression reference genomes, each ``ROBOT=PATH`` of
+    ``--genome`` in its robot's place."""
+    genomes = dict(DEFAULT_GENOMES)
+    for item in items:
+        robot, _, path = item.partition("=")
+        genomes[robot] = Path(path)
+    return genomes
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--split", default="validation")
     p.add_argument("--pairs-per-family", type=int, default=20)
     p.add_argument("--genome", action="append", default=[], metavar="ROBOT=PATH")
     args = p.parse_args(argv)
-    genomes = dict(DEFAULT_GENOMES)
-    for item in args.genome:
-        robot, _, path = item.partition("=")
-        genomes[robot] = Path(path)
+    genomes = chosen_genomes(args.genome)
     print(f"| robot | pairs | suite s | {' s | '.join(['evolved', *HAND_WRITTEN])} s |")
     print("|---|---|---|" + "---|" * (1 + len(HAND_WRITTEN)))
     for robot, path in genomes.items():

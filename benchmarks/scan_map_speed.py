@@ -16,18 +16,14 @@ import argparse
 import hashlib
 import json
 import time
-from pathlib import Path
 
 import numpy as np
+from generalisation_bench import chosen_genomes
 
 from mentor_core.benchmark.contenders import evolved, hand_written, on_scan_map
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite, shipped_limits
 from mentor_core.sim.robots import get_profile
-
-ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_GENOMES = {r: ROOT / "bags" / "regression" / f"{r}_reference_genome.json"
-                   for r in ("ugv", "swarm")}  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -35,10 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--pairs-per-family", type=int, default=8)
     p.add_argument("--genome", action="append", default=[], metavar="ROBOT=PATH")
     args = p.parse_args(argv)
-    genomes = dict(DEFAULT_GENOMES)
-    for item in args.genome:
-        robot, _, path = item.partition("=")
-        genomes[robot] = Path(path)
+    genomes = chosen_genomes(args.genome)
     out: dict[str, object] = {}
     digest = hashlib.sha256()
     for name, path in genomes.items():
