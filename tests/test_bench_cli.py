@@ -91,6 +91,8 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
         ([str(UGV_GENOME), str(UGV_GENOME), "--robot", "ugv"], "same label"),
         (["--robot", "ugv", "--baseline-limits", "fast"], "--baseline-limits: expected"),
         (["--robot", "ugv", "--baseline-limits", "shipped,shipped"], "--baseline-limits"),
+        (["--robot", "ugv", "--lookahead", "1"], "--lookahead: only with --scan-map"),
+        (["--robot", "ugv", "--scan-map", "--lookahead", "-1"], "--lookahead must be positive"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
@@ -179,6 +181,21 @@ def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -
     # the same planner, steered elsewhere: its trajectories differ
     assert any(a["trajectory"] != b["trajectory"]
                for a, b in zip(plain["results"], mapped["results"], strict=True))  # fmt: skip
+    # the guide is recorded: the carrot 1.5 goal radii (the UGV's: 1 m) along the plan
+    assert "scan_map" not in plain
+    assert mapped["scan_map"]["lookahead"] == pytest.approx(1.5)
+    assert mapped["scan_map"]["resolution"] == pytest.approx(0.1)
+
+
+def test_lookahead_moves_the_carrot_on_the_scan_map(tmp_path: Path) -> None:
+    out = tmp_path / "near"
+    assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--families", "rooms",
+                       "--pairs-per-family", "2", "--baselines", "none", "--no-oracle",
+                       "--scan-map", "--lookahead", "0.75", "--out", str(out)]) == 0  # fmt: skip
+    doc = load_bench(out / "bench.json")
+    mapped = doc["contenders"][1]
+    assert mapped["name"].startswith("mapped-")
+    assert mapped["scan_map"]["lookahead"] == mapped["scan_map"]["replan_distance"] == 0.75
 
 
 def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(

@@ -26,6 +26,7 @@ from mentor_core.errors import FileFormatError
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.episode import InputGoals, Policy
@@ -56,6 +57,8 @@ class Contender:
     make_policy: PolicyMaker
     source: str = ""
     make_goals: GoalsMaker | None = None
+    #: the guide of a planner on its scan map (:func:`on_scan_map`), None for the others
+    guide: GuideConfig | None = None
 
     def policy(self, scenarios: Sequence[Scenario]) -> Policy:
         """A fresh policy for robot ``i`` on ``scenarios[i]``."""
@@ -67,17 +70,19 @@ class Contender:
         return None if self.make_goals is None else self.make_goals(scenarios, self.profile)
 
 
-def on_scan_map(contender: Contender) -> Contender:
+def on_scan_map(contender: Contender, lookahead: float | None = None) -> Contender:
     """``contender`` steering to the carrot of a plan on the map of what its own sensors have
     read (:func:`mentor_core.navigation.scan_map.scan_guided_goals`, unknown space free),
     named ``mapped-<name>``: memory of where the obstacles are, with nothing of the world
-    known beforehand. An experiment (``benchmarks/RESULTS.md``)."""
+    known beforehand. ``lookahead`` (m): the carrot's distance along the plan (default
+    :func:`~mentor_core.navigation.scan_map.scan_guide_config`'s)."""
+    config = scan_guide_config(contender.profile, lookahead)
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> InputGoals:
-        return scan_guided_goals(scenarios, profile, scan_guide_config(profile))[0]
+        return scan_guided_goals(scenarios, profile, config)[0]
 
     return Contender(MAPPED + contender.name, contender.kind, contender.profile,
-                     contender.make_policy, contender.source, make)  # fmt: skip
+                     contender.make_policy, contender.source, make, config)  # fmt: skip
 
 
 def behind_rotation_shim(contender: Contender, threshold: float) -> Contender:

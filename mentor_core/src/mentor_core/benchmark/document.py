@@ -98,6 +98,10 @@ def _contender(result: ContenderResult) -> dict[str, Any]:
         "kind": c.kind,
         "source": c.source,
         "settings": settings(c.profile),
+        # the scan map's guide (m), for planners on one
+        **({} if c.guide is None else {"scan_map": {
+            "lookahead": c.guide.lookahead, "replan_distance": c.guide.replan_distance,
+            "margin": c.guide.margin, "resolution": c.guide.resolution}}),
         "seconds": result.seconds,
         "scores": {limit: {group: {k: _number(v) for k, v in row.items()}
                            for group, row in table.items()}

@@ -15,6 +15,7 @@ paper's 50 s and under a limit scaled to each pair's shortest path, and with ``-
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -72,6 +73,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scan-map", action="store_true",
                    help="also run each planner but the oracle steering to a plan on the map of "
                         "what its own sensors read, as mapped-<label> (an experiment)")
+    p.add_argument("--lookahead", type=float, metavar="M",
+                   help="with --scan-map: the carrot's distance along the plan, m (default "
+                        "1.5 goal radii)")
     p.add_argument("--rotation-shim", type=float, metavar="DEG",
                    help="also run each genome behind a rotation shim of this threshold "
                         "(degrees; Nav2's default 45), as shim-<label>")  # fmt: skip
@@ -107,8 +111,12 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         chosen += [hand_written(n, limits, n + suffix) for n in names]
     if args.collision_guard:
         chosen += [behind_collision_guard(c) for c in chosen]
+    if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
+        raise MentorError("--lookahead must be positive (m)")
     if args.scan_map:
-        chosen += [on_scan_map(c) for c in chosen]
+        chosen += [on_scan_map(c, args.lookahead) for c in chosen]
+    elif args.lookahead is not None:
+        raise MentorError("--lookahead: only with --scan-map")
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
 
 
