@@ -221,7 +221,7 @@ def _sight(
     for k in range(2):
         if d[k] != 0.0:  # the grid lines it crosses across axis k
             first[k] = float(math.ceil(min(p[k], q[k])))
-            counts[k] = max(0, math.floor(max(p[k], q[k])) - math.ceil(min(p[k], q[k])) + 1)
+            counts[k] = max(0, math.floor(max(p[k], q[k])) - int(first[k]) + 1)
     ts = np.empty(2 + counts[0] + counts[1], dtype=np.float64)
     ts[0], ts[1] = 0.0, 1.0
     n = 2

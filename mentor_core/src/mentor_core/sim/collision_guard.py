@@ -110,10 +110,7 @@ class CollisionGuard:
         for k, i in enumerate(np.asarray(robots).tolist()):
             if not self._within_reach(i, p[k], abs(step[k])):
                 continue
-            placed = self._obstacles(i, p[k])
-            if placed is None:
-                continue
-            world, pose = placed
+            world, pose = self._obstacles(i, p[k])
             if swept_collision(pose, dth[k], step[k], self.profile, world)[0] < 0:
                 continue
             choice = self._free_arc(pose, dth[k], step[k], r[k], world)
@@ -132,8 +129,7 @@ class CollisionGuard:
         box or, in an arena, its border (a cheap test that skips the swept check exactly: no
         point of the body leaves the disc of ``step`` plus its half-diagonal about its
         start, and a point's box, shifted inside the arena by at most its half-width, from
-        the square of twice that about the point); False without points, as
-        :meth:`_obstacles` gives no world then."""
+        the square of twice that about the point); False without points."""
         seen = [points for points in self.recent[robot] if len(points)]
         if not seen:
             return False
@@ -148,13 +144,11 @@ class CollisionGuard:
 
     def _obstacles(
         self, robot: int, pose: FloatArray, behind: bool = False
-    ) -> tuple[World, FloatArray] | None:
-        """A robot's remembered points as small boxes of a world, and its ``pose`` in that
-        world (None: no points); ``behind``: only the points behind its centre line. The
-        world is the arena, or without one a box ``2 reach`` across centred on the robot
-        (the points beyond it out of the body's reach)."""
-        if not any(len(points) for points in self.recent[robot]):
-            return None
+    ) -> tuple[World, FloatArray]:
+        """A robot's remembered points (it has some: :meth:`_within_reach`) as small boxes of
+        a world, and its ``pose`` in that world; ``behind``: only the points behind its
+        centre line. The world is the arena, or without one a box ``2 reach`` across centred
+        on the robot (the points beyond it out of the body's reach)."""
         points = np.concatenate(list(self.recent[robot]))
         if behind:
             ahead = (points - pose[:2]) @ np.array([math.cos(pose[2]), math.sin(pose[2])])
@@ -197,11 +191,8 @@ class CollisionGuard:
         straight back, the body can only meet points behind its centre line; those ahead are
         left out, so that a body already within a box's half-width of the wall it faces can
         still back away from it."""
-        placed = self._obstacles(robot, pose, behind=True)
+        world, pose = self._obstacles(robot, pose, behind=True)
         backs = -self.profile.length * np.asarray(BACKUP_SHARES)
-        if placed is None:
-            return float(backs[0])
-        world, pose = placed
         poses = np.repeat(pose[None], backs.size, axis=0)
         free = np.flatnonzero(swept_collision(poses, 0.0, backs, self.profile, world) < 0)
         return float(backs[free[0]]) if free.size else None
