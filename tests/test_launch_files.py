@@ -22,9 +22,11 @@ LAUNCH_FILES = [
     ROOT / "mentor_planner_node" / "launch" / "planner.launch.py",
 ]
 CONFIG = ROOT / "mentor_sim_node" / "config"
-#: what a viewer must show for robot_0: topics the simulator and planner use
+#: what a viewer must show for robot_0: topics the simulator and planner use, and the path
+#: and scan map the planner publishes
 TOPICS = {"/mentor/obstacles", "/map", "/robot_0/scan", "/robot_0/lidar/scan",
-          "/robot_0/odom", "/robot_0/goal", "/robot_0/plan"}
+          "/robot_0/odom", "/robot_0/goal", "/robot_0/plan", "/robot_0/global_plan",
+          "/robot_0/scan_map"}
 _LAUNCH = importlib.util.find_spec("launch")
 # the real package, not the namespace package the node packages' launch/ folders make of the
 # name when the node packages' roots are on sys.path (tests/ros_support.py puts them there)

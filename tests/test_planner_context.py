@@ -208,7 +208,7 @@ def test_the_gate_marks_the_first_answer_of_each_goal_and_episode() -> None:
     gate.on_scan(1 * S, [0.3, 0.3, 0.3])
     gate.on_odometry(1 * S, (1.0, 1.0, 0.0))
     first = gate.take(1 * S)
-    assert first is not None and first.new_goal
+    assert first is not None and first.new_goal and not first.new_episode
     assert gate.take(1 * S) is None  # a repeated observation (a lockstep resend): not again
     gate.on_goal((3.0, 3.0))  # the goal held, once more
     gate.on_scan(2 * S, [0.3, 0.3, 0.3])
@@ -217,19 +217,19 @@ def test_the_gate_marks_the_first_answer_of_each_goal_and_episode() -> None:
     assert second is not None and not second.new_goal
     gate.on_goal((1.0, 3.0))  # a new goal: answered again, with the same stamp
     third = gate.take(2 * S)
-    assert third is not None and third.new_goal
+    assert third is not None and third.new_goal and not third.new_episode  # a goal only
     gate.on_event("started", 4 * S, (1.0, 3.0))  # a restarted episode, the goal held
     gate.on_scan(5 * S, [0.3, 0.3, 0.3])
     gate.on_odometry(5 * S, (1.0, 1.0, 0.0))
     fourth = gate.take(5 * S)
-    assert fourth is not None and fourth.new_goal
+    assert fourth is not None and fourth.new_goal and fourth.new_episode
     gate.on_event("collided", 6 * S)  # the goal is done: the next one is new
     gate.on_goal((1.0, 3.0))
     gate.on_event("started", 7 * S)
     gate.on_scan(8 * S, [0.3, 0.3, 0.3])
     gate.on_odometry(8 * S, (1.0, 1.0, 0.0))
     fifth = gate.take(8 * S)
-    assert fifth is not None and fifth.new_goal
+    assert fifth is not None and fifth.new_goal and fifth.new_episode
 
 
 def test_baselines_ignore_the_context_and_answer_zero_memory() -> None:

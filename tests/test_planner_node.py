@@ -14,6 +14,7 @@ import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped, Twist
 from memory_support import latch
+from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
 from nav_msgs.msg import Path as PathMsg
 from rclpy.parameter import Parameter
@@ -21,6 +22,7 @@ from rclpy.qos import qos_profile_sensor_data
 from ros_support import REGRESSION, Graph, params, run_executable
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
+from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
 from mentor_core.errors import ConfigError, FileFormatError, MentorError
@@ -36,7 +38,7 @@ from mentor_core.sim.scan_adapter import LidarMount, readings_from_scan
 from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import World
 from mentor_planner_node.conversions import path_msg
-from mentor_planner_node.planner import QOS_COMMAND, QOS_LATCHED, PlannerNode
+from mentor_planner_node.planner import QOS_COMMAND, QOS_EVENTS, QOS_LATCHED, PlannerNode
 from mentor_sim_node import conversions as sim_conv
 
 pytestmark = pytest.mark.ros
@@ -433,6 +435,36 @@ def test_a_scan_map_of_size_0_covers_the_arena_in_the_odometry_frame(graph: Grap
     # odom sits at (1, 0.5) in map, turned a quarter: map's [0, 4]^2 is [-0.5, 3.5] x [-3, 1]
     assert scan.origin == pytest.approx((-0.5, -3.0))
     assert scan.hits.shape[0] * scan.resolution == pytest.approx(4.0)
+
+
+@pytest.mark.parametrize("keep", [False, True])
+def test_a_kept_scan_map_lasts_across_goals_until_an_episode_starts(
+    graph: Graph, keep: bool
+) -> None:
+    planner = _planner(graph, scan_map=True, scan_map_size=4.0, scan_map_keep=keep)
+    robot = Robot(graph)
+    events = graph.probe("sim_events").create_publisher(String, f"{NS}/events", QOS_EVENTS)
+    maps: list[OccupancyGridMsg] = []
+    graph.probe("rviz").create_subscription(OccupancyGridMsg, f"{NS}/scan_map", maps.append,
+                                            QOS_LATCHED)  # fmt: skip
+    assert planner.global_plan is not None and planner.global_plan.ready  # sized: no arena
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    _answered(graph, robot, planner, 0, [0.3, 0.2, 0.3], (1.0, 1.0, 0.0))  # a wall ahead
+    scan = planner.global_plan.planner.scan  # type: ignore[union-attr]
+    assert (scan.map.data == 100).sum() == 3
+    assert graph.spin_until(lambda: bool(maps))  # published with the first plan, in odom
+    assert maps[-1].header.frame_id == "odom" and list(maps[-1].data).count(100) == 3
+
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((2.0, 3.0), Time()))  # the next goal
+    assert graph.spin_until(lambda: len(robot.commands) > 1)
+    kept = planner.global_plan.planner.scan  # type: ignore[union-attr]
+    # the same scan answered for the new goal: read once more into the kept map, or once
+    # into a new one
+    assert (kept is scan) == keep and kept.map.hits.sum() == (6 if keep else 3)
+    events.publish(sim_conv.event_string("started", 0, 2 * 10**9, (2.0, 3.0)))  # an episode
+    _answered(graph, robot, planner, 2, [math.inf] * 3, (1.0, 1.0, 0.0))
+    fresh = planner.global_plan.planner.scan  # type: ignore[union-attr]
+    assert fresh is not scan and not (fresh.map.data == 100).any()
 
 
 def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(

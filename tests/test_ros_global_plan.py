@@ -27,7 +27,7 @@ from mentor_core.runtime.scenario_plan import load_scenario_source, source_map
 from mentor_core.runtime.simulator import run_reference_episode
 from mentor_core.sim.world import World
 from mentor_planner_node.conversions import path_msg
-from mentor_planner_node.global_plan import QOS_MAP, QOS_PATH_OUT, PlanSetupError
+from mentor_planner_node.global_plan import MAP_EVERY_S, QOS_MAP, QOS_PATH_OUT, PlanSetupError
 from mentor_planner_node.planner import PlannerNode
 from mentor_sim_node.sim import SimNode
 
@@ -115,13 +115,18 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     bag = tmp_path / "episodes"
     probe = graph.probe()
     paths: list[PathMsg] = []
+    maps: list[OccupancyGridMsg] = []
     probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
+    probe.create_subscription(OccupancyGridMsg, "/robot_0/scan_map", maps.append, QOS_MAP)
     planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True)
     assert planner.global_plan is not None and not planner.global_plan.ready  # no arena yet
     sim = _run_one_episode(graph, tmp_path / "world.yaml", bag)
-    graph.spin_until(lambda: bool(paths), timeout=2.0)
+    graph.spin_until(lambda: bool(paths) and bool(maps), timeout=2.0)
     assert planner.zero_commands == 0 and len(sim.outcomes) == 1
     assert paths and paths[-1].header.frame_id == "odom"  # the plans it followed, for RViz
+    # and the map it planned on, in the odometry frame: 1 s apart and with each new plan
+    assert 1 <= len(maps) <= len(paths) + sim.outcomes[0].time_used / MAP_EVERY_S + 1
+    assert all(m.header.frame_id == "odom" for m in maps)
 
     # the same episode in process: the genome behind the shim and a guard on no arena, on
     # the map of what it read, as mentor-bench --scan-map --rotation-shim 45 runs it
@@ -129,12 +134,25 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     plain = GenomePlanner.load(GENOME, "ugv", np.pi / 4, collision_guard=True)
     mapped = ScanGuidedPlanner(plain, scan_guide_config(plain.profile), 12.0)
     run = recorded_episodes(read_episode_bag(bag), bag)[0]
-    ref = run_reference_episode(source.world, [run.setup], {"robot_0": mapped.decide})["robot_0"]
+    seen: list[np.ndarray] = []  # the map after each decision
+
+    def decide(ranges: object, pose: object, goal: object) -> tuple[float, float]:
+        decision = mapped.decide(ranges, pose, goal)
+        seen.append(mapped.scan.map.data)
+        return decision
+
+    ref = run_reference_episode(source.world, [run.setup], {"robot_0": decide})["robot_0"]
     assert run.outcome == ref.outcome
     poses = np.array([o.pose for o in run.odometry])
     assert len(poses) == ref.steps + 1
     np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
     assert mapped.scan.plans > 1  # it planned again round what it read
+    # each map published is the map of what it had read at one of its decisions, in order
+    at = 0
+    for msg in maps:
+        sent = np.asarray(msg.data, dtype=np.int8).reshape(msg.info.height, msg.info.width)
+        at = next(k for k in range(at, len(seen)) if np.array_equal(sent, seen[k]))
+    assert (sent == 100).any() and (sent == -1).any()
 
 
 def test_a_global_plan_and_a_scan_map_at_once_are_refused(graph: Graph) -> None:

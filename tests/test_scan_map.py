@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -11,15 +12,19 @@ from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.scan_map import (
     ScanGuide,
     ScanMap,
+    scan_guide_config,
     scan_guided_goals,
     scan_map_resolution,
 )
+from mentor_core.runtime.guided_planner import ScanGuidedPlanner
+from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.sensors import sensor_frames, sensor_readings
 from mentor_core.sim.world import Scenario, World
 
 UGV = get_profile("ugv")
+REGRESSION = Path(__file__).resolve().parents[1] / "bags" / "regression"
 # a wall across the middle of a 12 m arena, open at its top end
 WALL = World(12.0, np.array([[5.9, 0.0, 6.1, 9.0]]))
 
@@ -117,3 +122,26 @@ def test_a_single_ray_sensor_counts_once_beside_the_beams() -> None:
     frame = sensor_frames(pose, UGV)[0, 2]  # left-front: one ray, away from the front cones
     x, y = frame[:2] + 2.0 * np.array([math.cos(frame[2]), math.sin(frame[2])])
     assert guides[0].map.misses[int(y / 0.1), int(x / 0.1)] == 1
+
+
+def test_a_kept_map_plans_the_next_goal_round_what_was_read() -> None:
+    genome = REGRESSION / "ugv_reference_genome.json"
+    mapped = ScanGuidedPlanner(GenomePlanner.load(genome, "ugv"), scan_guide_config(UGV), 12.0)
+    for y in np.arange(1.0, 8.5, 0.25):  # along the wall, its right side 0.5 m off it
+        pose = np.array([5.4, y, math.pi / 2])
+        mapped.decide(sensor_readings(pose[None], UGV, WALL)[0], pose, (9.0, 4.0))
+    read = mapped.scan.map.data
+    assert (read[:, 59:61] == OCCUPIED).sum() > 30  # the wall, every few cells of y 1-8 m
+    start, blind = np.array([3.0, 4.0, 0.0]), np.full(UGV.n_sensors, np.inf)
+
+    mapped.reset(keep_map=True)  # the next goal, in the same place: the map stays
+    np.testing.assert_array_equal(mapped.scan.map.data, read)
+    mapped.decide(blind, start, (9.0, 4.5))
+    path = mapped.guide.path
+    assert path is not None and (np.abs(path[:, 1] - 4.25) > 0.5).any()  # round the wall read
+
+    mapped.reset()  # a new goal as benchmarked (or a new episode): an empty map
+    assert (mapped.scan.map.data == UNKNOWN).all()
+    mapped.decide(blind, start, (9.0, 4.5))
+    path = mapped.guide.path
+    assert path is not None and (np.abs(path[:, 1] - 4.25) < 0.3).all()  # straight through

@@ -2,10 +2,14 @@
 
     ros2 launch mentor_planner_node planner.launch.py genome:=best_genome.json scan:=/scan
     ros2 launch mentor_planner_node planner.launch.py genome:=g.json collision_guard:=true
+    ros2 launch mentor_planner_node planner.launch.py genome:=g.json scan_map:=true \
+        scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]" scan_map_keep:=true
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
-every control period (``decide_on_timer``), publishing ``cmd_vel``.
+every control period (``decide_on_timer``), publishing ``cmd_vel``. With ``scan_map`` it plans
+on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
+odometry frame (``docs/ros.md``, "Global plans").
 """
 
 from __future__ import annotations
@@ -24,6 +28,10 @@ ARGUMENTS = {
     "cmd_vel": "/cmd_vel",
     "use_sim_time": "false",
     "collision_guard": "false",
+    "scan_map": "false",
+    "scan_map_size": "20.0",
+    "scan_map_origin": "[-10.0, -10.0]",
+    "scan_map_keep": "false",
 }
 
 
@@ -40,6 +48,11 @@ def generate_launch_description() -> LaunchDescription:
             "profile": config["profile"],
             "use_sim_time": ParameterValue(config["use_sim_time"], value_type=bool),
             "collision_guard": ParameterValue(config["collision_guard"], value_type=bool),
+            "scan_map": ParameterValue(config["scan_map"], value_type=bool),
+            "scan_map_size": ParameterValue(config["scan_map_size"], value_type=float),
+            # no value_type: the string is read as YAML, a list of floats
+            "scan_map_origin": ParameterValue(config["scan_map_origin"]),
+            "scan_map_keep": ParameterValue(config["scan_map_keep"], value_type=bool),
             "decide_on_timer": True,
             "scan_kind": "lidar",
         }],

@@ -9,7 +9,8 @@ inputs themselves come from the one shared function ``mentor_core.network_inputs
 clips +inf to the sensor range; nothing here changes a reading.
 With a global plan it also reads a ``nav_msgs/OccupancyGrid`` (the map to plan on) and
 ``nav_msgs/Path`` (a path to follow), both in ``map``, and writes the path it follows as a
-``nav_msgs/Path``.
+``nav_msgs/Path``; with a scan map it writes that map as a ``nav_msgs/OccupancyGrid``
+(:func:`occupancy_grid_msg`, which the simulator node's ``/map`` uses too).
 """
 
 from __future__ import annotations
@@ -29,8 +30,8 @@ from geometry_msgs.msg import (
     Twist,
     Vector3,
 )
+from nav_msgs.msg import MapMetaData, Odometry, Path
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
-from nav_msgs.msg import Odometry, Path
 from numpy.typing import ArrayLike, NDArray
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Header, String
@@ -229,6 +230,29 @@ def path_from_msg(msg: Path) -> NDArray[np.float64]:
     return points
 
 
+def _orientation(yaw: float) -> Quaternion:
+    qx, qy, qz, qw = yaw_to_quaternion(yaw)
+    return Quaternion(x=qx, y=qy, z=qz, w=qw)
+
+
+def occupancy_grid_msg(
+    grid: OccupancyGrid, stamp: Time | None = None, frame_id: str = MAP_FRAME
+) -> OccupancyGridMsg:
+    """``nav_msgs/OccupancyGrid`` of a grid in ``frame_id`` (default ``map``): row-major from
+    the origin's row (-1 unknown, 0 free .. 100 occupied); the resolution travels as a
+    float32 (the inverse of :func:`grid_from_occupancy_grid`)."""
+    x, y, yaw = grid.origin
+    header = Header(stamp=stamp if stamp is not None else Time(), frame_id=frame_id)
+    info = MapMetaData(
+        map_load_time=header.stamp,
+        resolution=float(grid.resolution),
+        width=grid.width,
+        height=grid.height,
+        origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=_orientation(yaw)),
+    )
+    return OccupancyGridMsg(header=header, info=info, data=grid.data.reshape(-1).tolist())
+
+
 def path_msg(points: ArrayLike, stamp: Time, frame_id: str = MAP_FRAME) -> Path:
     """A ``nav_msgs/Path`` in ``frame_id`` (default ``map``) through ``points`` ``(k, 2)``
     (m); each pose faces along its segment (the last one along the last segment)."""
@@ -239,8 +263,6 @@ def path_msg(points: ArrayLike, stamp: Time, frame_id: str = MAP_FRAME) -> Path:
     header = Header(stamp=stamp, frame_id=frame_id)
     poses = []
     for (x, y), yaw in zip(p.tolist(), yaws.tolist(), strict=True):
-        qx, qy, qz, qw = yaw_to_quaternion(yaw)
-        orientation = Quaternion(x=qx, y=qy, z=qz, w=qw)
-        pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=orientation)
+        pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=_orientation(yaw))
         poses.append(PoseStamped(header=header, pose=pose))
     return Path(header=header, poses=poses)

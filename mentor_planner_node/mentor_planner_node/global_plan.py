@@ -17,7 +17,10 @@ With ``scan_map`` it plans instead on a map of what its own scans read, unknown 
 square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
 odometry frame), or with a size of 0 the square about the simulator's arena
 (``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each new
-goal or episode, as each benchmark episode does.
+goal or episode, as each benchmark episode does; with ``scan_map_keep`` it is kept across
+goals and starts empty only at a simulator episode's ``started`` event. It is published on
+``scan_map`` (latched, in the odometry frame, for RViz) with each new plan and at most every
+:data:`MAP_EVERY_S` s of the node's clock in between.
 
 Everything computed is ``mentor_core``; this module declares the parameters, makes the topics
 and converts the messages (:mod:`.conversions`).
@@ -51,6 +54,9 @@ from mentor_core import (
 from mentor_planner_node import conversions
 
 WARN_EVERY_S = 5.0
+#: s (node clock) between two publications of a scan map whose plan has not changed
+MAP_EVERY_S = 1.0
+_NS_PER_S = 1_000_000_000
 #: the map: latched, as map_server and the simulator publish it
 QOS_MAP = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
@@ -98,6 +104,9 @@ class GlobalPlan:
         self._published = 0
         self._path_pub = node.create_publisher(Path, "global_plan", QOS_PATH_OUT)
         if self.scan_map:
+            self._keep_map = bool(values["scan_map_keep"])
+            self._map_pub = node.create_publisher(OccupancyGridMsg, "scan_map", QOS_MAP)
+            self._map_sent: int | None = None  # node clock (ns) of the last publication
             self._config = scan_guide_config(planner.profile, float(values["lookahead"]) or None)
             size = float(values["scan_map_size"])
             origin = [float(v) for v in values["scan_map_origin"]]
@@ -160,9 +169,12 @@ class GlobalPlan:
                        f"{self._frames.odom_frame!r}")  # fmt: skip
         return True
 
-    def reset(self) -> None:
-        """Start the planner blank (a new goal or episode; a scan map starts empty)."""
-        if self.planner is not None:
+    def reset(self, new_episode: bool = True) -> None:
+        """Start the planner blank (a new goal, or a new episode of the simulator); a scan
+        map starts empty, unless ``scan_map_keep`` and it is only a new goal."""
+        if isinstance(self.planner, ScanGuidedPlanner):
+            self.planner.reset(keep_map=self._keep_map and not new_episode)
+        elif self.planner is not None:
             self.planner.reset()
         else:
             self._genome.reset()
@@ -182,11 +194,27 @@ class GlobalPlan:
             pose, goal = to_map.apply_pose(p), to_map.apply_point(g)
         decision = self.planner.decide(ranges, pose, goal)
         guide = self.planner.guide
-        if guide.revision != self._published and guide.path is not None:
+        now = self._node.get_clock().now()
+        new_plan = guide.revision != self._published and guide.path is not None
+        if new_plan:
             self._published = guide.revision
-            stamp = self._node.get_clock().now().to_msg()
-            self._path_pub.publish(conversions.path_msg(guide.path, stamp, frame))
+            self._path_pub.publish(conversions.path_msg(guide.path, now.to_msg(), frame))
+        if isinstance(self.planner, ScanGuidedPlanner):
+            self._publish_scan_map(now.nanoseconds, now.to_msg(), frame, new_plan)
         return decision
+
+    def _publish_scan_map(self, now_ns: int, stamp: Any, frame: str, new_plan: bool) -> None:
+        """The scan map on ``scan_map`` with a new plan, else at most every
+        :data:`MAP_EVERY_S` s (a clock that went back, as sim time does when the simulator
+        restarts, counts as due)."""
+        last = self._map_sent
+        due = last is None or not 0 <= now_ns - last < MAP_EVERY_S * _NS_PER_S
+        if not (new_plan or due):
+            return
+        assert isinstance(self.planner, ScanGuidedPlanner)
+        self._map_sent = now_ns
+        grid = self.planner.scan.map.grid()
+        self._map_pub.publish(conversions.occupancy_grid_msg(grid, stamp, frame))
 
     def _on_map(self, msg: OccupancyGridMsg) -> None:
         try:
@@ -257,6 +285,12 @@ def attach(
                 "scan_map_origin",
                 [0.0, 0.0],
                 _descriptor("[x, y] m, the scan map's lower-left corner in the odometry frame"),
+            ),
+            (
+                "scan_map_keep",
+                False,
+                _descriptor("keep the scan map across goals (cleared at a simulator episode's "
+                            "start); false: each goal starts with an empty map, as benchmarked"),
             ),
         ],
     )

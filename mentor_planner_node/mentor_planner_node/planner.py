@@ -18,7 +18,8 @@ A watchdog on the steady clock sends a zero Twist with a throttled warning when 
 could be answered for ``stale_timeout`` wall s, also when sim time stops. A corrupt genome or
 an unknown profile is one line on stderr and exit status 2.
 With ``global_plan`` the network steers along a path given on ``plan`` or planned on the
-map (:mod:`.global_plan`); with ``collision_guard`` its decisions pass a collision guard
+map, with ``scan_map`` along a plan on a map of its own scans, which it publishes on
+``scan_map`` (:mod:`.global_plan`); with ``collision_guard`` its decisions pass a collision guard
 (:mod:`mentor_core.sim.collision_guard`) that may answer with a step back (``linear.x < 0``).
 """
 
@@ -308,7 +309,10 @@ class PlannerNode(Node):
             return
         decider = self.planner if self.global_plan is None else self.global_plan
         if obs.new_goal:  # a planner with a memory starts each goal blank, as in training
-            decider.reset()
+            if self.global_plan is None:
+                self.planner.reset()
+            else:
+                self.global_plan.reset(obs.new_episode)
         try:
             decide = decider.decide
             dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)

@@ -32,8 +32,7 @@ from geometry_msgs.msg import (
     Twist,
     Vector3,
 )
-from nav_msgs.msg import MapMetaData, Odometry
-from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
+from nav_msgs.msg import Odometry
 from numpy.typing import ArrayLike
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import ColorRGBA, Header, String
@@ -54,7 +53,7 @@ from mentor_core import (
 )
 
 if TYPE_CHECKING:
-    from mentor_core import FrameLink, LidarSpec, OccupancyGrid, RobotProfile, World
+    from mentor_core import FrameLink, LidarSpec, RobotProfile, World
 
 _NS_PER_S = 1_000_000_000
 
@@ -216,21 +215,6 @@ def markers_from_world(world: World, stamp: Time | None = None) -> MarkerArray:
             )
         )
     return out
-
-
-def occupancy_grid_from_grid(grid: OccupancyGrid, stamp: Time | None = None) -> OccupancyGridMsg:
-    """``nav_msgs/OccupancyGrid`` of a grid, frame ``map``: row-major from the origin's row
-    (-1 unknown, 0 free .. 100 occupied); the resolution travels as a float32."""
-    x, y, yaw = grid.origin
-    header = Header(stamp=stamp if stamp is not None else Time(), frame_id=MAP_FRAME)
-    info = MapMetaData(
-        map_load_time=header.stamp,
-        resolution=float(grid.resolution),
-        width=grid.width,
-        height=grid.height,
-        origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=_quaternion(yaw)),
-    )
-    return OccupancyGridMsg(header=header, info=info, data=grid.data.reshape(-1).tolist())
 
 
 def lidar_scan(ranges: ArrayLike, spec: LidarSpec, stamp: Time, frame_id: str) -> LaserScan:

@@ -46,6 +46,7 @@ from mentor_core import (
     parameter_fault,
     source_map,
 )
+from mentor_planner_node.conversions import occupancy_grid_msg
 from mentor_sim_node import conversions
 from mentor_sim_node.params import SimSetupError, check_runtime, declare_parameters
 from mentor_sim_node.topics import QOS_COMMAND, QOS_LATCHED, Topics, subscribe_goals
@@ -111,7 +112,7 @@ class SimNode(Node):
         """The world as ``nav_msgs/OccupancyGrid`` on ``/map`` (latched), for planners' global
         plans and RViz."""
         self._map_pub = self.create_publisher(OccupancyGridMsg, MAP_TOPIC, QOS_LATCHED)
-        self._map_pub.publish(conversions.occupancy_grid_from_grid(grid))
+        self._map_pub.publish(occupancy_grid_msg(grid))
 
     def _period(self, real_time_factor: float) -> float:
         """Wall s between two timer ticks."""

@@ -127,6 +127,12 @@ class ScanGuide:
         self.guide.set_map(self.map.grid())
         self.plans = 0  # maps planned on, the first included
 
+    def refresh(self) -> None:
+        """Plan on the map as it is now at the next :meth:`target` (the plan followed is
+        made only on the map as it was when a newly seen obstacle last blocked it)."""
+        self.guide.set_map(self.map.grid())
+        self.plans += 1
+
     def target(self, rays: ArrayLike, readings: ArrayLike, max_range: float,
                xy: ArrayLike, goal: ArrayLike,
                located: ArrayLike | None = None) -> tuple[float, float]:  # fmt: skip

@@ -88,11 +88,16 @@ class ScanGuidedPlanner:
         """The plan followed (its ``path`` and ``revision``)."""
         return self.scan.guide
 
-    def reset(self) -> None:
+    def reset(self, keep_map: bool = False) -> None:
         """Start blank (a new goal or episode): the network as :meth:`GenomePlanner.reset`,
-        and an empty map, as each episode of ``mentor-bench --scan-map`` starts."""
+        and an empty map, as each episode of ``mentor-bench --scan-map`` starts; with
+        ``keep_map`` the map stays (a robot sent to its next goal in the same place) and the
+        next plan is made on all of it."""
         self.planner.reset()
-        self.scan = ScanGuide(*self._blank)
+        if keep_map:
+            self.scan.refresh()
+        else:
+            self.scan = ScanGuide(*self._blank)
 
     def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) as :meth:`GenomePlanner.decide`, after adding

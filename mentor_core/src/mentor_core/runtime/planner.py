@@ -228,13 +228,15 @@ class GenomePlanner:
 class Observation:
     """What the planner answers: stamp (ns) of the scan, readings, pose and goal (None when
     no goal has been received); ``new_goal``: the first observation answered since a new goal
-    or a ``started`` event (a planner with a memory starts blank on it)."""
+    or a ``started`` event (a planner with a memory starts blank on it); ``new_episode``:
+    the first since a ``started`` event (a new episode, perhaps in another world)."""
 
     stamp_ns: int
     ranges: FloatArray
     pose: Pose
     goal: tuple[float, float] | None
     new_goal: bool = False
+    new_episode: bool = False
 
 
 class DecisionGate:
@@ -266,6 +268,7 @@ class DecisionGate:
         self._since: int | None = None  # node time the watchdog counts from before an answer
         self._idle = False
         self._new_goal = False  # no observation answered since a new goal or episode
+        self._new_episode = False  # no observation answered since a started event
 
     @property
     def idle(self) -> bool:
@@ -316,6 +319,7 @@ class DecisionGate:
         elif kind == "started":
             self._idle = False
             self._new_goal = True  # a new episode, even towards the goal held
+            self._new_episode = True
             self._since = int(now_ns)
             self._answered_at = None
             if goal is not None:
@@ -338,7 +342,8 @@ class DecisionGate:
         self._answered_goal = self._goal
         self._answered_at = int(now_ns)
         new_goal, self._new_goal = self._new_goal, False
-        return Observation(stamp, ranges.copy(), pose, self._goal, new_goal)
+        new_episode, self._new_episode = self._new_episode, False
+        return Observation(stamp, ranges.copy(), pose, self._goal, new_goal, new_episode)
 
     def watchdog(self, now_ns: int) -> str | None:
         """Why the planner should send a zero Twist at node time ``now_ns`` (one line), or None.
