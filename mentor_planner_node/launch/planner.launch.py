@@ -3,7 +3,7 @@
     ros2 launch mentor_planner_node planner.launch.py genome:=best_genome.json scan:=/scan
     ros2 launch mentor_planner_node planner.launch.py genome:=g.json collision_guard:=true
     ros2 launch mentor_planner_node planner.launch.py genome:=g.json scan_map:=true \
-        scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]" scan_map_keep:=true
+        scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]"
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
@@ -31,7 +31,7 @@ ARGUMENTS = {
     "scan_map": "false",
     "scan_map_size": "20.0",
     "scan_map_origin": "[-10.0, -10.0]",
-    "scan_map_keep": "false",
+    "scan_map_keep": "true",
 }
 
 

@@ -17,8 +17,9 @@ With ``scan_map`` it plans instead on a map of what its own scans read, unknown 
 square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
 odometry frame), or with a size of 0 the square about the simulator's arena
 (``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each new
-goal or episode, as each benchmark episode does; with ``scan_map_keep`` it is kept across
-goals and starts empty only at a simulator episode's ``started`` event. It is published on
+goal or episode, as each benchmark episode does, unless ``scan_map_keep`` (the default): then
+it is kept across goals and starts empty only at a simulator episode's ``started`` event
+(``benchmarks/RESULTS.md``, "The scan map from goal to goal"). It is published on
 ``scan_map`` (latched, in the odometry frame, for RViz) with each new plan and at most every
 :data:`MAP_EVERY_S` s of the node's clock in between.
 
@@ -288,9 +289,9 @@ def attach(
             ),
             (
                 "scan_map_keep",
-                False,
+                True,
                 _descriptor("keep the scan map across goals (cleared at a simulator episode's "
-                            "start); false: each goal starts with an empty map, as benchmarked"),
+                            "start); false: each goal starts with an empty map"),
             ),
         ],
     )
