@@ -1,0 +1,77 @@
+"""The experience gain's share of a whole training run, measured inside the run.
+
+    NUMBA_NUM_THREADS=2 .venv/bin/python benchmarks/g_share.py --seed 1 --out /tmp/g_share \\
+        [-- mentor-train options, default: --robot ugv --framework dual --config paper]
+
+Runs ``mentor-train`` in this process with the trainer's
+:func:`~mentor_core.objectives.experience.experience_gains_packed` wrapped in a wall-clock
+timer, then prints the seconds spent in it against the run's generations (``history.csv``'s
+``seconds``), per stage: in a dual run's stage 1 every genome's G is ranked; in stage 2 (and
+every generation of the single framework) only the best genome's is computed, and the last
+generation computes every G for the final files (``docs/algorithm.md``, "G where it is
+ranked"). ``benchmarks/generation_bench.py`` times one generation of evolved-looking genomes
+instead; this is the share in a real run, whose genomes' experience grows as they learn.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import mentor_core.training.problem as problem
+from mentor_core.cli.train import main as mentor_train
+
+
+def run(seed: int, out: Path, train_args: Sequence[str]) -> list[tuple[int, float]]:
+    """Train into ``out``; the timed calls as (point sets, seconds)."""
+    calls: list[tuple[int, float]] = []
+    inner = problem.experience_gains_packed
+
+    def timed(points: Any, offsets: Any, *args: Any, **kwargs: Any) -> Any:
+        start = time.perf_counter()
+        gains = inner(points, offsets, *args, **kwargs)
+        calls.append((len(offsets) - 1, time.perf_counter() - start))
+        return gains
+
+    problem.experience_gains_packed = timed  # type: ignore[assignment]
+    try:
+        mentor_train([*train_args, "--seed", str(seed), "--out", str(out), "--quiet"])
+    except SystemExit as stop:
+        if stop.code:
+            raise
+    finally:
+        problem.experience_gains_packed = inner
+    return calls
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--out", type=Path, required=True, help="a new run directory")
+    parser.add_argument("train", nargs="*",
+                        default=["--robot", "ugv", "--framework", "dual", "--config", "paper"],
+                        help="mentor-train options (after --)")  # fmt: skip
+    args = parser.parse_args(argv)
+    calls = run(args.seed, args.out, args.train)
+    with open(args.out / "history.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    stages: dict[str, float] = {}
+    for row in rows:
+        stages[row["stage"]] = stages.get(row["stage"], 0.0) + float(row["seconds"])
+    total = sum(stages.values())
+    ranked = sum(s for n, s in calls[:-1] if n > 1)  # the last call: the final files
+    print(f"generations {total:.1f} s; experience gain {sum(s for _, s in calls):.2f} s "
+          f"({100 * sum(s for _, s in calls) / total:.1f} %) in {len(calls)} calls")
+    if len(stages) > 1:
+        first = stages[rows[0]["stage"]]
+        print(f"stage 1: {ranked:.2f} s of {first:.1f} s ({100 * ranked / first:.1f} %); "
+              f"best-only calls {sum(s for n, s in calls if n == 1):.2f} s; "
+              f"final generation's {calls[-1][1]:.2f} s")
+
+
+if __name__ == "__main__":
+    main()
