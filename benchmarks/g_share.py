@@ -26,15 +26,16 @@ import mentor_core.training.problem as problem
 from mentor_core.cli.train import main as mentor_train
 
 
-def run(seed: int, out: Path, train_args: Sequence[str]) -> list[tuple[int, float]]:
-    """Train into ``out``; the timed calls as (point sets, seconds)."""
-    calls: list[tuple[int, float]] = []
+def run(seed: int, out: Path, train_args: Sequence[str]) -> list[tuple[int, float, int]]:
+    """Train into ``out``; the timed calls as (point sets, seconds, points)."""
+    calls: list[tuple[int, float, int]] = []
     inner = problem.experience_gains_packed
 
     def timed(points: Any, offsets: Any, *args: Any, **kwargs: Any) -> Any:
         start = time.perf_counter()
         gains = inner(points, offsets, *args, **kwargs)
-        calls.append((len(offsets) - 1, time.perf_counter() - start))
+        calls.append((len(offsets) - 1, time.perf_counter() - start,
+                      int(offsets[-1]) - int(offsets[0])))
         return gains
 
     problem.experience_gains_packed = timed  # type: ignore[assignment]
@@ -63,14 +64,18 @@ def main(argv: Sequence[str] | None = None) -> None:
     for row in rows:
         stages[row["stage"]] = stages.get(row["stage"], 0.0) + float(row["seconds"])
     total = sum(stages.values())
-    ranked = sum(s for n, s in calls[:-1] if n > 1)  # the last call: the final files
-    print(f"generations {total:.1f} s; experience gain {sum(s for _, s in calls):.2f} s "
-          f"({100 * sum(s for _, s in calls) / total:.1f} %) in {len(calls)} calls")
+    spent = sum(s for _, s, _ in calls)
+    full = [(n, s, p) for n, s, p in calls[:-1] if n > 1]  # the last call: the final files
+    ranked = sum(s for _, s, _ in full)
+    print(f"generations {total:.1f} s; experience gain {spent:.2f} s "
+          f"({100 * spent / total:.1f} %) in {len(calls)} calls")
     if len(stages) > 1:
         first = stages[rows[0]["stage"]]
-        print(f"stage 1: {ranked:.2f} s of {first:.1f} s ({100 * ranked / first:.1f} %); "
-              f"best-only calls {sum(s for n, s in calls if n == 1):.2f} s; "
-              f"final generation's {calls[-1][1]:.2f} s")
+        points = sum(p for _, _, p in full) / max(1, sum(n for n, _, _ in full))
+        print(f"stage 1: {ranked:.2f} s of {first:.1f} s ({100 * ranked / first:.1f} %), "
+              f"{points:.0f} points a genome; best-only calls "
+              f"{sum(s for n, s, _ in calls if n == 1):.2f} s; final generation's "
+              f"{calls[-1][1]:.2f} s ({calls[-1][2] / calls[-1][0]:.0f} points a genome)")
 
 
 if __name__ == "__main__":
