@@ -16,10 +16,10 @@ With ``scan_map`` it plans instead on a map of what its own scans read, unknown 
 (:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --scan-map`` runs the planners): a
 square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
 odometry frame), or with a size of 0 the square about the simulator's arena
-(``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each new
-goal or episode, as each benchmark episode does, unless ``scan_map_keep`` (the default): then
-it is kept across goals and starts empty only at a simulator episode's ``started`` event
-(``benchmarks/RESULTS.md``, "The scan map from goal to goal"). It is published on
+(``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each
+simulator episode's ``started`` event, as each benchmark episode does, and is kept from goal
+to goal (``scan_map_keep``, the default; ``benchmarks/RESULTS.md``, "The scan map from goal to
+goal"), or with ``scan_map_keep:=false`` starts empty at each new goal too. It is published on
 ``scan_map`` (latched, in the odometry frame, for RViz) with each new plan and at most every
 :data:`MAP_EVERY_S` s of the node's clock in between.
 
@@ -34,6 +34,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from builtin_interfaces.msg import Time
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Path
 from numpy.typing import ArrayLike
@@ -204,7 +205,7 @@ class GlobalPlan:
             self._publish_scan_map(now.nanoseconds, now.to_msg(), frame, new_plan)
         return decision
 
-    def _publish_scan_map(self, now_ns: int, stamp: Any, frame: str, new_plan: bool) -> None:
+    def _publish_scan_map(self, now_ns: int, stamp: Time, frame: str, new_plan: bool) -> None:
         """The scan map on ``scan_map`` with a new plan, else at most every
         :data:`MAP_EVERY_S` s (a clock that went back, as sim time does when the simulator
         restarts, counts as due)."""
