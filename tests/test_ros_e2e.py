@@ -142,12 +142,15 @@ def test_robots_of_both_kinds_share_a_world_through_ros(graph: Graph) -> None:
     assert all(p.decisions > 0 and p.zero_commands == 0 for p in planners)
 
 
-def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(tmp_path: Path) -> None:
+@pytest.mark.parametrize("mode", [[], ["--headline"]], ids=["plain", "headline"])
+def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(
+    tmp_path: Path, mode: list[str]
+) -> None:
     exe = ROOT / "ros2_ws/install/mentor_sim_node/lib/mentor_sim_node/demo"
     assert exe.is_file(), "run `bash scripts/bootstrap.sh` first"
     env = workspace_env()
     proc = subprocess.run(
-        [str(exe), "--robots", "ugv", "swarm", "--episodes", "1", "--timeout", "30"],
+        [str(exe), "--robots", "ugv", "swarm", "--episodes", "1", "--timeout", "30", *mode],
         cwd=ROOT, env=env, capture_output=True, timeout=60,
     )
     out = proc.stdout.decode()

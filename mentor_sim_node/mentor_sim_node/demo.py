@@ -11,9 +11,12 @@ is being destroyed at shutdown. By default a UGV
 planning with ``bags/regression/<profile>_reference_genome.json`` (paths relative to the
 working directory: run it from the repository root, or give ``--genome``), for 2 episodes as
 fast as the planners answer; ``--real-time-factor 1`` runs in real time (watch ``/clock``,
-``/mentor/obstacles`` and the robots' topics in Foxglove or rviz). Discovery stays on this
-machine (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, ``ROS_DOMAIN_ID=42``) unless the
-environment says otherwise.
+``/mentor/obstacles`` and the robots' topics in Foxglove or rviz). ``--headline`` runs the
+planners as the benchmark's headline planners: on a map of their own scans, behind the rotation
+shim and the collision guard (``mentor-bench --scan-map --rotation-shim 45
+--collision-guard``). Discovery stays on this machine
+(``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, ``ROS_DOMAIN_ID=42``) unless the environment
+says otherwise.
 """
 
 from __future__ import annotations
@@ -51,6 +54,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=float, default=0.0, help="episode limit, s (0: T_tot)")
     p.add_argument("--record", default="", help="episode bag to write (one profile only)")
     p.add_argument("--timeout", type=float, default=0.0, help="stop after this many wall s")
+    p.add_argument(
+        "--headline", action="store_true",
+        help="planners on a map of their own scans, behind the rotation shim (45 deg) and the "
+             "collision guard, as the benchmark's headline planners",
+    )
     return p
 
 
@@ -134,11 +142,14 @@ def main(argv: list[str] | None = None) -> None:
         "record": opts.record,
     }
     planners = []
+    # the node's parameters for mentor-bench --scan-map --rotation-shim 45 --collision-guard
+    mode = {"scan_map": True, "rotation_shim_deg": 45.0, "collision_guard": True}
     for name, profile in zip(names, opts.robots, strict=True):
         genome = genomes.get(profile, f"bags/regression/{profile}_reference_genome.json")
         if not Path(genome).is_file():
             sys.exit(f"demo: {genome}: no such genome file (give --genome {profile}=FILE)")
-        planners.append((f"/{name}", {"genome": genome, "profile": profile}))
+        values = {"genome": genome, "profile": profile, **(mode if opts.headline else {})}
+        planners.append((f"/{name}", values))
     from rclpy.exceptions import ParameterException
 
     from mentor_core import MentorError, genome_control_period
