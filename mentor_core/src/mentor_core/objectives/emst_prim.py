@@ -21,7 +21,12 @@ plain kernel's ``if dist2 < best`` would be false:
   only the points with ``recheck[j] <= D``; it sweeps everything when more than one in
   ``_RECHECK_SHARE`` would need it.
 * **exact duplicates.** A newcomer equal to the point it hung from measures the same
-  distances: its sweep is skipped.
+  distances: its sweep is skipped (tested only when its link is 0, as it is exactly then).
+
+Few slots pass either test (at most 1 in ``_RECHECK_SHARE`` on a recheck, a few percent after
+a sweep), so they are flagged in a loop the compiler vectorises and gathered eight flags at a
+time (:func:`_compact`): a branch per slot, mispredicted at every pass, cost more than the
+sweep's arithmetic.
 
 The outside points stay in the plain kernel's slots (the last one moves into the hole), and the
 running minimum is kept per block of ``_BLOCK`` slots with the first slot winning a tie, as the
@@ -30,7 +35,8 @@ whose float32 copy could overflow go to the plain kernel.
 
 Measured (``benchmarks/RESULTS.md``, issue 15): 1.6x the plain kernel's speed over a paper-scale
 generation's point sets (1.0-3x set by set, most where experiences repeat), 1.6-2.2x on 4,000
-trajectory-like points in 18-D.
+trajectory-like points in 18-D; the flags and the duplicate test on the link then made it
+1.2x faster again on real training sets ("Experience gain: a quarter of a stage-1 generation").
 """
 
 from __future__ import annotations
@@ -157,17 +163,24 @@ def _sweep32(
 @compiled()
 def _refresh_rechecks(
     acc: np.ndarray,
+    limit32: np.ndarray,
     reach: np.ndarray,
     recheck: np.ndarray,
     m: int,
     scale: float,
     shift: float,
     base: float,
+    flags: np.ndarray,
 ) -> None:  # pragma: no cover - compiled
-    """recheck[j] = (lower bound on the distance, from ``acc``) - reach[j] + base, j < m."""
+    """After a sweep, in one pass over j < m: recheck[j] = (lower bound on the distance, from
+    ``acc``) - reach[j] + base, and flags[j] = acc[j] < limit32[j] (measure j exactly), zero
+    up to the next multiple of 8 (:func:`_compact`)."""
     for j in range(m):
+        flags[j] = acc[j] < limit32[j]
         bound = np.float64(np.sqrt(acc[j])) * scale - shift
         recheck[j] = (bound - reach[j]) + base
+    for j in range(m, (m + 7) // 8 * 8):
+        flags[j] = 0
 
 
 @compiled()
@@ -182,6 +195,37 @@ def _block_minimum(
             value = best[j]
             slot = j
     return value, slot
+
+
+@compiled()
+def _flag_at_most(
+    values: np.ndarray, limit: float, m: int, flags: np.ndarray
+) -> None:  # pragma: no cover - compiled
+    """flags[j] = values[j] <= limit for j < m, zero up to the next multiple of 8."""
+    for j in range(m):
+        flags[j] = values[j] <= limit
+    for j in range(m, (m + 7) // 8 * 8):
+        flags[j] = 0
+
+
+@compiled()
+def _compact(
+    flags: np.ndarray, m: int, todo: np.ndarray
+) -> int:  # pragma: no cover - compiled
+    """The flagged slots below m into ``todo`` in ascending order; their count.
+
+    Few slots are flagged (at most 1 in ``_RECHECK_SHARE`` on a recheck, a few percent after
+    a sweep), so eight flags are tested at once as one word and only words with a flag are
+    unpacked, without a branch per slot (``todo`` has room for 8 past ``m``).
+    """
+    words = flags.view(np.uint64)
+    count = 0
+    for w in range((m + 7) // 8):
+        if words[w] != 0:
+            for j in range(8 * w, 8 * w + 8):
+                todo[count] = j
+                count += flags[j]
+    return count
 
 
 @compiled()
@@ -274,7 +318,8 @@ def bounded_prim_length(points: np.ndarray) -> float:  # pragma: no cover - comp
     recheck = np.full(slots, -np.inf)  # travelled length up to which j needs no check
     parent = np.full(slots, -1)  # row of the tree point that set best
     acc = np.empty(slots, dtype=np.float32)
-    todo = np.empty(slots, dtype=np.int64)
+    todo = np.empty(slots + 8, dtype=np.int64)
+    flags = np.zeros((slots + 7) // 8 * 8, dtype=np.uint8)
     exact = np.empty(slots)
     query = np.empty(d, dtype=np.float32)
     n_blocks = (slots + _BLOCK - 1) // _BLOCK
@@ -284,11 +329,12 @@ def bounded_prim_length(points: np.ndarray) -> float:  # pragma: no cover - comp
     last = points[0].copy()
     row_last = 0
     last_parent = -1
+    last_link2 = np.inf  # the newcomer's squared link: 0 for a duplicate of its parent
     travelled = 0.0
     total = 0.0
     m = slots
     while m > 0:
-        skip = last_parent >= 0
+        skip = last_parent >= 0 and last_link2 == 0.0  # else it differs from its parent
         if skip:
             for k in range(d):
                 if points[last_parent, k] != last[k]:
@@ -301,20 +347,15 @@ def bounded_prim_length(points: np.ndarray) -> float:  # pragma: no cover - comp
                 due += recheck[j] <= edge
             count = 0
             if due * _RECHECK_SHARE <= m:
-                for j in range(m):
-                    if recheck[j] <= edge:
-                        todo[count] = j
-                        count += 1
+                _flag_at_most(recheck, edge, m, flags)
+                count = _compact(flags, m, todo)
             else:
                 for k in range(d):
                     query[k] = np.float32(last[k] - centre[k])
                 _sweep32(coords32, query, m, acc)
-                for j in range(m):
-                    if acc[j] < limit32[j]:
-                        todo[count] = j
-                        count += 1
                 base = travelled * (1.0 - _SLACK)
-                _refresh_rechecks(acc, reach, recheck, m, scale32, shift32, base)
+                _refresh_rechecks(acc, limit32, reach, recheck, m, scale32, shift32, base, flags)
+                count = _compact(flags, m, todo)
             _exact_dist2(coords, last, todo, count, exact)
             for c in range(count):
                 j = todo[c]
@@ -338,6 +379,7 @@ def bounded_prim_length(points: np.ndarray) -> float:  # pragma: no cover - comp
                 first = b
         nearest = block_slot[first]
         total += np.sqrt(block_best[first])
+        last_link2 = block_best[first]
         last_parent = parent[nearest]
         row_last = row[nearest]
         hop = 0.0

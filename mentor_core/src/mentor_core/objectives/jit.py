@@ -3,6 +3,9 @@
 numba is a speed-up only: without it the kernels run as plain Python (correct but slow) and
 ``experience`` falls back to its numpy reference. Compiled code is cached on disk
 (``NUMBA_CACHE_DIR``) and keeps strict IEEE arithmetic unless a kernel asks for contraction.
+A cached kernel is checked against its own module's file only: after editing a kernel that a
+kernel of another module calls (``emst_prim`` under ``experience``), clear the cache, or the
+caller keeps the old code.
 """
 
 from __future__ import annotations
