@@ -173,14 +173,11 @@ def _refresh_rechecks(
     flags: np.ndarray,
 ) -> None:  # pragma: no cover - compiled
     """After a sweep, in one pass over j < m: recheck[j] = (lower bound on the distance, from
-    ``acc``) - reach[j] + base, and flags[j] = acc[j] < limit32[j] (measure j exactly), zero
-    up to the next multiple of 8 (:func:`_compact`)."""
+    ``acc``) - reach[j] + base, and flags[j] = acc[j] < limit32[j] (measure j exactly)."""
     for j in range(m):
         flags[j] = acc[j] < limit32[j]
         bound = np.float64(np.sqrt(acc[j])) * scale - shift
         recheck[j] = (bound - reach[j]) + base
-    for j in range(m, (m + 7) // 8 * 8):
-        flags[j] = 0
 
 
 @compiled()
@@ -201,11 +198,9 @@ def _block_minimum(
 def _flag_at_most(
     values: np.ndarray, limit: float, m: int, flags: np.ndarray
 ) -> None:  # pragma: no cover - compiled
-    """flags[j] = values[j] <= limit for j < m, zero up to the next multiple of 8."""
+    """flags[j] = values[j] <= limit for j < m."""
     for j in range(m):
         flags[j] = values[j] <= limit
-    for j in range(m, (m + 7) // 8 * 8):
-        flags[j] = 0
 
 
 @compiled()
@@ -216,8 +211,11 @@ def _compact(
 
     Few slots are flagged (at most 1 in ``_RECHECK_SHARE`` on a recheck, a few percent after
     a sweep), so eight flags are tested at once as one word and only words with a flag are
-    unpacked, without a branch per slot (``todo`` has room for 8 past ``m``).
+    unpacked, without a branch per slot (``todo`` has room for 8 past ``m``). The flags from
+    m up to the next multiple of 8 are cleared first: a slot removed since is not flagged.
     """
+    for j in range(m, (m + 7) // 8 * 8):
+        flags[j] = 0
     words = flags.view(np.uint64)
     count = 0
     for w in range((m + 7) // 8):
@@ -345,7 +343,6 @@ def bounded_prim_length(points: np.ndarray) -> float:  # pragma: no cover - comp
             due = 0
             for j in range(m):
                 due += recheck[j] <= edge
-            count = 0
             if due * _RECHECK_SHARE <= m:
                 _flag_at_most(recheck, edge, m, flags)
                 count = _compact(flags, m, todo)
