@@ -230,7 +230,8 @@ def path_from_msg(msg: Path) -> NDArray[np.float64]:
     return points
 
 
-def _orientation(yaw: float) -> Quaternion:
+def quaternion_msg(yaw: float) -> Quaternion:
+    """``geometry_msgs/Quaternion`` of a heading (rad) about z."""
     qx, qy, qz, qw = yaw_to_quaternion(yaw)
     return Quaternion(x=qx, y=qy, z=qz, w=qw)
 
@@ -248,7 +249,7 @@ def occupancy_grid_msg(
         resolution=float(grid.resolution),
         width=grid.width,
         height=grid.height,
-        origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=_orientation(yaw)),
+        origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=quaternion_msg(yaw)),
     )
     return OccupancyGridMsg(header=header, info=info, data=grid.data.reshape(-1).tolist())
 
@@ -263,6 +264,6 @@ def path_msg(points: ArrayLike, stamp: Time, frame_id: str = MAP_FRAME) -> Path:
     header = Header(stamp=stamp, frame_id=frame_id)
     poses = []
     for (x, y), yaw in zip(p.tolist(), yaws.tolist(), strict=True):
-        pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=_orientation(yaw))
+        pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=quaternion_msg(yaw))
         poses.append(PoseStamped(header=header, pose=pose))
     return Path(header=header, poses=poses)

@@ -202,20 +202,21 @@ class GlobalPlan:
             self._published = guide.revision
             self._path_pub.publish(conversions.path_msg(guide.path, now.to_msg(), frame))
         if isinstance(self.planner, ScanGuidedPlanner):
-            self._publish_scan_map(now.nanoseconds, now.to_msg(), frame, new_plan)
+            self._publish_scan_map(self.planner, now.nanoseconds, now.to_msg(), frame, new_plan)
         return decision
 
-    def _publish_scan_map(self, now_ns: int, stamp: Time, frame: str, new_plan: bool) -> None:
-        """The scan map on ``scan_map`` with a new plan, else at most every
+    def _publish_scan_map(
+        self, planner: ScanGuidedPlanner, now_ns: int, stamp: Time, frame: str, new_plan: bool
+    ) -> None:
+        """``planner``'s scan map on ``scan_map`` with a new plan, else at most every
         :data:`MAP_EVERY_S` s (a clock that went back, as sim time does when the simulator
         restarts, counts as due)."""
         last = self._map_sent
         due = last is None or not 0 <= now_ns - last < MAP_EVERY_S * _NS_PER_S
         if not (new_plan or due):
             return
-        assert isinstance(self.planner, ScanGuidedPlanner)
         self._map_sent = now_ns
-        grid = self.planner.scan.map.grid()
+        grid = planner.scan.map.grid()
         self._map_pub.publish(conversions.occupancy_grid_msg(grid, stamp, frame))
 
     def _on_map(self, msg: OccupancyGridMsg) -> None:

@@ -26,7 +26,6 @@ from geometry_msgs.msg import (
     Point,
     Pose,
     PoseStamped,
-    Quaternion,
     Transform,
     TransformStamped,
     Twist,
@@ -49,8 +48,8 @@ from mentor_core import (
     arena_outline,
     box_markers,
     scan_geometry,
-    yaw_to_quaternion,
 )
+from mentor_planner_node.conversions import quaternion_msg
 
 if TYPE_CHECKING:
     from mentor_core import FrameLink, LidarSpec, RobotProfile, World
@@ -69,11 +68,6 @@ def time_from_ns(stamp_ns: int) -> Time:
 def ns_from_time(stamp: Time) -> int:
     """Time in ns of a ``builtin_interfaces/Time``."""
     return int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
-
-
-def _quaternion(theta: float) -> Quaternion:
-    x, y, z, w = yaw_to_quaternion(theta)
-    return Quaternion(x=x, y=y, z=z, w=w)
 
 
 def laser_scan_from_ranges(
@@ -135,7 +129,7 @@ def odometry_from_pose(
     msg = Odometry()
     msg.header = Header(stamp=stamp, frame_id=ODOM_FRAME)
     msg.child_frame_id = f"{ns}/base_link" if ns else "base_link"
-    msg.pose.pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=_quaternion(theta))
+    msg.pose.pose = Pose(position=Point(x=x, y=y, z=0.0), orientation=quaternion_msg(theta))
     msg.twist.twist = Twist(linear=Vector3(x=v), angular=Vector3(z=omega))
     return msg
 
@@ -145,7 +139,7 @@ def pose_stamped_from_goal(goal: Sequence[float], stamp: Time) -> PoseStamped:
     gx, gy = (float(v) for v in goal[:2])
     return PoseStamped(
         header=Header(stamp=stamp, frame_id=MAP_FRAME),
-        pose=Pose(position=Point(x=gx, y=gy, z=0.0), orientation=_quaternion(0.0)),
+        pose=Pose(position=Point(x=gx, y=gy, z=0.0), orientation=quaternion_msg(0.0)),
     )
 
 
@@ -192,7 +186,7 @@ def markers_from_world(world: World, stamp: Time | None = None) -> MarkerArray:
         id=0,
         type=Marker.LINE_STRIP,
         action=Marker.ADD,
-        pose=Pose(orientation=_quaternion(0.0)),
+        pose=Pose(orientation=quaternion_msg(0.0)),
         scale=Vector3(x=ARENA_LINE_WIDTH),
         color=ColorRGBA(r=0.0, g=0.0, b=0.0, a=1.0),
         points=[Point(x=x, y=y, z=z) for x, y, z in arena_outline(world.size)],
@@ -208,7 +202,7 @@ def markers_from_world(world: World, stamp: Time | None = None) -> MarkerArray:
                 id=box.id,
                 type=Marker.CUBE,
                 action=Marker.ADD,
-                pose=Pose(position=Point(x=cx, y=cy, z=cz), orientation=_quaternion(0.0)),
+                pose=Pose(position=Point(x=cx, y=cy, z=cz), orientation=quaternion_msg(0.0)),
                 scale=Vector3(x=sx, y=sy, z=sz),
                 color=ColorRGBA(r=0.5, g=0.5, b=0.5, a=1.0),
                 points=[Point(x=x, y=y, z=z) for x, y, z in box.corners],
@@ -233,7 +227,7 @@ def transforms(links: Sequence[FrameLink], stamp: Time) -> list[TransformStamped
                 header=Header(stamp=stamp, frame_id=link.parent),
                 child_frame_id=link.child,
                 transform=Transform(
-                    translation=Vector3(x=t.x, y=t.y, z=0.0), rotation=_quaternion(t.yaw)
+                    translation=Vector3(x=t.x, y=t.y, z=0.0), rotation=quaternion_msg(t.yaw)
                 ),
             )
         )
