@@ -4,6 +4,8 @@
     ros2 launch mentor_planner_node planner.launch.py genome:=g.json collision_guard:=true
     ros2 launch mentor_planner_node planner.launch.py genome:=g.json scan_map:=true \
         scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]"
+    ros2 launch mentor_planner_node planner.launch.py genome:=planners/ugv-paper-dual-s1.json \
+        scan_map:=true rotation_shim_deg:=45.0 collision_guard:=true   # the headline planner
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
@@ -27,6 +29,7 @@ ARGUMENTS = {
     "odom": "/odom",
     "cmd_vel": "/cmd_vel",
     "use_sim_time": "false",
+    "rotation_shim_deg": "0.0",
     "collision_guard": "false",
     "scan_map": "false",
     "scan_map_size": "20.0",
@@ -47,6 +50,7 @@ def generate_launch_description() -> LaunchDescription:
             "genome": config["genome"],
             "profile": config["profile"],
             "use_sim_time": ParameterValue(config["use_sim_time"], value_type=bool),
+            "rotation_shim_deg": ParameterValue(config["rotation_shim_deg"], value_type=float),
             "collision_guard": ParameterValue(config["collision_guard"], value_type=bool),
             "scan_map": ParameterValue(config["scan_map"], value_type=bool),
             "scan_map_size": ParameterValue(config["scan_map_size"], value_type=float),
