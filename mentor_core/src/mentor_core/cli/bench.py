@@ -72,7 +72,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
     p.add_argument("--scan-map", action="store_true",
                    help="also run each planner but the oracle steering to a plan on the map of "
-                        "what its own sensors read, as mapped-<label> (an experiment)")
+                        "what its own sensors read, as mapped-<label> (with --rotation-shim 45 "
+                        "--collision-guard: as the shipped planners are deployed)")
     p.add_argument("--lookahead", type=float, metavar="M",
                    help="with --scan-map: the carrot's distance along the plan, m (default "
                         "1.5 goal radii)")

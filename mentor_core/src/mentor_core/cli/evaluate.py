@@ -256,7 +256,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--lookahead",
         type=float,
-        help="m along the global path the network steers to (default: 2 goal radii)",
+        metavar="M",
+        help="m along the path the network steers to (default: 2 goal radii along a global "
+             "plan, 1.5 on the scan map)",
     )
     p.add_argument(
         "--rotation-shim",
