@@ -93,6 +93,7 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
         (["--robot", "ugv", "--baseline-limits", "shipped,shipped"], "--baseline-limits"),
         (["--robot", "ugv", "--lookahead", "1"], "--lookahead: only with --scan-map"),
         (["--robot", "ugv", "--scan-map", "--lookahead", "-1"], "--lookahead must be positive"),
+        (["--robot", "ugv", "--deployed", "--collision-guard"], "--deployed: give none of"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
@@ -245,3 +246,24 @@ def test_collision_guard_adds_each_planner_but_the_oracle_behind_the_guard(
     assert "collision_guard" not in by_name["ref-s1"]["settings"]
     for c in doc["contenders"]:  # lengths driven, steps back included, are never negative
         assert all(r["path_length"] >= 0.0 for r in c["results"])
+
+
+def test_deployed_runs_each_genome_only_as_deployed_and_as_the_three_flags_do(
+    tmp_path: Path,
+) -> None:
+    """--deployed: the genome on its scan map behind the shim (45 deg) and the guard, and
+    the baselines in the variants the three flags add; each the same run as with the flags."""
+    common = [str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families", "rooms",
+              "--pairs-per-family", "2", "--baselines", "vfh", "--baseline-limits",
+              "reference", "--no-oracle"]  # fmt: skip
+    assert bench_main([*common, "--deployed", "--out", str(tmp_path / "d")]) == 0
+    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
+    assert bench_main([*common, *flags, "--out", str(tmp_path / "all")]) == 0
+    deployed = load_bench(tmp_path / "d" / "bench.json")["contenders"]
+    every = {c["name"]: c for c in load_bench(tmp_path / "all" / "bench.json")["contenders"]}
+    assert [c["name"] for c in deployed] == [
+        "mapped-guard-shim-ref-s1", "vfh", "guard-vfh", "mapped-vfh", "mapped-guard-vfh"]
+    assert len(every) == 12  # (plain, shim) x (guard or not) x (map or not), the baseline x 4
+    for c in deployed:
+        assert c["results"] == every[c["name"]]["results"], c["name"]
+        assert c["settings"] == every[c["name"]]["settings"], c["name"]

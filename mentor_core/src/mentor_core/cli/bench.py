@@ -3,6 +3,7 @@
     mentor-bench runs/ugv-dual/best_genome.json --robot ugv --out bench/ugv
     mentor-bench a.json b.json --robot swarm --split test --pairs-per-family 40 --out bench/sw
     mentor-bench --robot ugv --families rooms,maze --pairs-per-family 5     # baselines only
+    mentor-bench planners/ugv-paper-dual-s1.json --robot ugv --deployed    # as deployed
 
 Runs each genome (with the planner settings of its metadata, as mentor-eval), the baselines
 (``vfh``, ``bug``) and the oracle on the seeded world families of a split (validation by
@@ -49,6 +50,9 @@ from mentor_core.sim.robots import RobotProfile, get_profile
 
 #: where the baselines' action limits come from (``--baseline-limits``)
 LIMIT_SOURCES = ("reference", "shipped")
+#: the rotation shim the shipped planners are deployed behind (``--deployed``), rad: Nav2's
+#: default, as chosen on the validation split (``benchmarks/RESULTS.md``)
+DEPLOYED_SHIM = math.radians(45.0)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -84,6 +88,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also run each planner but the oracle behind a collision guard that "
                         "vets each decision against what its sensors read lately and backs "
                         "up when every arc ahead would hit, as guard-<label>")
+    p.add_argument("--deployed", action="store_true",
+                   help="run each genome only as the shipped planners are deployed: on its "
+                        "scan map behind a 45 deg rotation shim and the collision guard, as "
+                        "mapped-guard-shim-<label>; the baselines plain, guarded, on their "
+                        "scan map and both (not with --scan-map, --rotation-shim or "
+                        "--collision-guard)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     return p
@@ -97,28 +107,48 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         raise MentorError("give one --label per genome")
     if len(set(labels)) != len(labels):
         raise MentorError("two planners have the same label; give --label")
-    chosen: list[Contender] = [evolved(path, robot, label)
-                               for label, path in zip(labels, args.genomes, strict=True)]
-    shim = rotation_shim_threshold(args.rotation_shim)
-    if shim is not None:
-        chosen += [behind_rotation_shim(c, shim) for c in chosen]
+    genomes = [evolved(path, robot, label)
+               for label, path in zip(labels, args.genomes, strict=True)]  # fmt: skip
     names = [] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]
     for name in names:
         if name not in HAND_WRITTEN or HAND_WRITTEN[name][0] != "baseline":
             known = ", ".join(n for n, (k, _) in HAND_WRITTEN.items() if k == "baseline")
             raise MentorError(f"--baselines: unknown baseline {name!r} (known: {known})")
     reference = reference_profile(robot)
-    for suffix, limits in _baseline_limits(args.baseline_limits, robot, reference):
-        chosen += [hand_written(n, limits, n + suffix) for n in names]
-    if args.collision_guard:
-        chosen += [behind_collision_guard(c) for c in chosen]
+    baselines = [hand_written(n, limits, n + suffix)
+                 for suffix, limits in _baseline_limits(args.baseline_limits, robot, reference)
+                 for n in names]  # fmt: skip
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         raise MentorError("--lookahead must be positive (m)")
-    if args.scan_map:
-        chosen += [on_scan_map(c, args.lookahead) for c in chosen]
-    elif args.lookahead is not None:
-        raise MentorError("--lookahead: only with --scan-map")
+    if args.lookahead is not None and not (args.scan_map or args.deployed):
+        raise MentorError("--lookahead: only with --scan-map or --deployed")
+    if args.deployed:
+        if args.scan_map or args.rotation_shim is not None or args.collision_guard:
+            raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
+                              "--collision-guard with it (it sets all three)")
+        deployed = [on_scan_map(behind_collision_guard(behind_rotation_shim(c, DEPLOYED_SHIM)),
+                                args.lookahead) for c in genomes]  # fmt: skip
+        chosen = deployed + _variants(baselines, True, True, args.lookahead)
+    else:
+        shim = rotation_shim_threshold(args.rotation_shim)
+        if shim is not None:
+            genomes += [behind_rotation_shim(c, shim) for c in genomes]
+        chosen = _variants(genomes + baselines, args.collision_guard, args.scan_map,
+                           args.lookahead)  # fmt: skip
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
+
+
+def _variants(
+    contenders: list[Contender], guard: bool, scan_map: bool, lookahead: float | None
+) -> list[Contender]:
+    """``contenders``, then each behind the collision guard (``guard``), then each of those on
+    its scan map (``scan_map``), in that order."""
+    chosen = list(contenders)
+    if guard:
+        chosen += [behind_collision_guard(c) for c in chosen]
+    if scan_map:
+        chosen += [on_scan_map(c, lookahead) for c in chosen]
+    return chosen
 
 
 def _baseline_limits(
