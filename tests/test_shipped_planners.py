@@ -14,12 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.benchmark.contenders import (
-    behind_collision_guard,
-    behind_rotation_shim,
-    evolved,
-    on_scan_map,
-)
+from mentor_core.benchmark.contenders import as_deployed, evolved
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.episode import run_episodes
@@ -72,8 +67,10 @@ def test_the_readme_lists_each_shipped_planner_by_its_sha256() -> None:
 @pytest.mark.parametrize("robot_name", ["ugv", "swarm"])
 def test_a_shipped_planner_as_deployed_reaches_goals_in_an_empty_world(robot_name: str) -> None:
     robot = get_profile(robot_name)
-    contender = on_scan_map(behind_collision_guard(behind_rotation_shim(
-        evolved(PLANNERS / f"{robot_name}-paper-dual-s1.json", robot), math.radians(45.0))))
+    contender = as_deployed(evolved(PLANNERS / f"{robot_name}-paper-dual-s1.json", robot))
+    assert contender.name.startswith("mapped-guard-shim-")
+    assert contender.profile.rotation_shim == pytest.approx(math.radians(45.0))
+    assert contender.profile.collision_guard and contender.guide is not None
     size = robot.test_arena
     world = World(size)
     rng = np.random.default_rng(0)

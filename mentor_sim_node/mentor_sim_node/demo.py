@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> None:
         "record": opts.record,
     }
     planners = []
-    # the node's parameters for mentor-bench --scan-map --rotation-shim 45 --collision-guard
+    # the node's parameters for mentor-bench --deployed (mentor_core's contenders.as_deployed)
     mode = {"scan_map": True, "rotation_shim_deg": 45.0, "collision_guard": True}
     for name, profile in zip(names, opts.robots, strict=True):
         genome = genomes.get(profile, f"bags/regression/{profile}_reference_genome.json")

@@ -11,6 +11,7 @@ its sensors read), instead of the scenario's goal.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -99,6 +100,21 @@ def behind_collision_guard(contender: Contender) -> Contender:
     read lately (:mod:`mentor_core.sim.collision_guard`), named ``guard-<name>``."""
     profile = with_planner(contender.profile, collision_guard=True, source="collision guard")
     return dataclasses.replace(contender, name=GUARDED + contender.name, profile=profile)
+
+
+#: the rotation shim's threshold the shipped planners are deployed behind, deg (Nav2's default)
+DEPLOYED_SHIM_DEG = 45.0
+
+
+def as_deployed(contender: Contender, lookahead: float | None = None) -> Contender:
+    """``contender`` (an evolved planner) as the shipped planners are deployed and scored
+    (``benchmarks/RESULTS.md``, "Where it stands"): on its scan map (:func:`on_scan_map`,
+    ``lookahead``), behind the collision guard and a rotation shim of
+    :data:`DEPLOYED_SHIM_DEG`, named ``mapped-guard-shim-<name>`` (``mentor-bench
+    --deployed``; the planner node's ``scan_map``, ``rotation_shim_deg`` and
+    ``collision_guard``)."""
+    shimmed = behind_rotation_shim(contender, math.radians(DEPLOYED_SHIM_DEG))
+    return on_scan_map(behind_collision_guard(shimmed), lookahead)
 
 
 #: the hand-written planners: name -> (kind, policy maker)

@@ -27,6 +27,7 @@ from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.benchmark.contenders import (
     HAND_WRITTEN,
     Contender,
+    as_deployed,
     behind_collision_guard,
     behind_rotation_shim,
     evolved,
@@ -50,9 +51,6 @@ from mentor_core.sim.robots import RobotProfile, get_profile
 
 #: where the baselines' action limits come from (``--baseline-limits``)
 LIMIT_SOURCES = ("reference", "shipped")
-#: the rotation shim the shipped planners are deployed behind (``--deployed``), rad: Nav2's
-#: default, as chosen on the validation split (``benchmarks/RESULTS.md``)
-DEPLOYED_SHIM = math.radians(45.0)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -79,8 +77,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "what its own sensors read, as mapped-<label> (with --rotation-shim 45 "
                         "--collision-guard: as the shipped planners are deployed)")
     p.add_argument("--lookahead", type=float, metavar="M",
-                   help="with --scan-map: the carrot's distance along the plan, m (default "
-                        "1.5 goal radii)")
+                   help="with --scan-map or --deployed: the carrot's distance along the "
+                        "plan, m (default 1.5 goal radii)")
     p.add_argument("--rotation-shim", type=float, metavar="DEG",
                    help="also run each genome behind a rotation shim of this threshold "
                         "(degrees; Nav2's default 45), as shim-<label>")  # fmt: skip
@@ -90,7 +88,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "up when every arc ahead would hit, as guard-<label>")
     p.add_argument("--deployed", action="store_true",
                    help="run each genome only as the shipped planners are deployed: on its "
-                        "scan map behind a 45 deg rotation shim and the collision guard, as "
+                        "scan map behind the collision guard and a 45 deg rotation shim, as "
                         "mapped-guard-shim-<label>; the baselines plain, guarded, on their "
                         "scan map and both (not with --scan-map, --rotation-shim or "
                         "--collision-guard)")
@@ -126,9 +124,8 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         if args.scan_map or args.rotation_shim is not None or args.collision_guard:
             raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
                               "--collision-guard with it (it sets all three)")
-        deployed = [on_scan_map(behind_collision_guard(behind_rotation_shim(c, DEPLOYED_SHIM)),
-                                args.lookahead) for c in genomes]  # fmt: skip
-        chosen = deployed + _variants(baselines, True, True, args.lookahead)
+        chosen = [as_deployed(c, args.lookahead) for c in genomes]
+        chosen += _variants(baselines, True, True, args.lookahead)
     else:
         shim = rotation_shim_threshold(args.rotation_shim)
         if shim is not None:
