@@ -1,5 +1,6 @@
 """mentor-eval --global-plan (each genome also along a global plan, beside its plain run),
---map (the world from a ROS map), --rotation-shim, and their bad input."""
+--map (the world from a ROS map), --rotation-shim, --collision-guard, --scan-map, --deployed,
+and their bad input."""
 
 from __future__ import annotations
 
@@ -64,6 +65,7 @@ def test_a_world_from_a_ros_map(tmp_path: Path, capsys: pytest.CaptureFixture[st
         (["--robot", "ugv"], "give --bag, --world, --map or --seed"),
         (["--robot", "ugv", "--seed", "1", "--lookahead", "-1"], "--lookahead must be"),
         (["--robot", "ugv", "--seed", "1", "--rotation-shim", "0"], "--rotation-shim must be"),
+        (["--robot", "ugv", "--seed", "1", "--deployed", "--scan-map"], "--deployed: give none"),
     ],
 )
 def test_bad_arguments_and_map_files_exit_2_with_one_line(
@@ -126,3 +128,16 @@ def test_on_a_scan_map_the_recording_ends_every_episode_as_the_table(
     assert runs[0]["results"] != runs[1]["results"]  # the map changes the runs
     err = capsys.readouterr().err
     assert "recorded 20 episodes" in err and "in the recording" not in err
+
+
+def test_deployed_is_the_scan_map_run_behind_the_shim_and_the_guard_alone(
+    tmp_path: Path,
+) -> None:
+    common = [str(UGV_GENOME), "--robot", "ugv", "--seed", "3", "--n", "4", "--label", "ref"]
+    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
+    assert mentor_eval([*common, *flags, "--out", str(tmp_path / "all.json")]) == 0
+    assert mentor_eval([*common, "--deployed", "--out", str(tmp_path / "d.json")]) == 0
+    every = json.loads((tmp_path / "all.json").read_text())["runs"]
+    deployed = json.loads((tmp_path / "d.json").read_text())["runs"]
+    assert [r["genome"] for r in deployed] == ["ref +scan-map"]
+    assert deployed[0]["results"] == every[1]["results"]

@@ -9,6 +9,7 @@
     mentor-eval a.json --bag bags/unseen/ugv --scan-map           # + on a map of its readings
     mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
     mentor-eval a.json --bag bags/unseen/ugv --collision-guard     # no arc into what was read
+    mentor-eval a.json --bag bags/unseen/ugv --deployed            # only as deployed
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
 table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
@@ -21,7 +22,9 @@ world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run besi
 ``--rotation-shim`` runs the genomes behind a rotation shim
 (:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does;
 ``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`), as
-the planner node's ``collision_guard`` does.
+the planner node's ``collision_guard`` does. ``--deployed`` runs each genome only as the
+shipped planners are deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard,
+without the plain run (:func:`mentor_core.benchmark.contenders.as_deployed`).
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -40,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from mentor_core.atomic import write_json_atomic
+from mentor_core.benchmark.contenders import DEPLOYED_SHIM_DEG
 from mentor_core.cli.arguments import (
     Parser,
     count,
@@ -274,6 +278,13 @@ def build_parser() -> argparse.ArgumentParser:
         "in the last three decisions, a step back when every arc ahead would hit",
     )
     p.add_argument(
+        "--deployed",
+        action="store_true",
+        help="run each genome only as deployed: on the map of its own readings behind the "
+        "rotation shim (45 deg) and the collision guard, without the plain run (not with "
+        "--scan-map, --rotation-shim or --collision-guard)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
     )
     return p
@@ -319,6 +330,12 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
+    if args.deployed:
+        if args.scan_map or args.rotation_shim is not None or args.collision_guard:
+            return fail("mentor-eval", "--deployed: give none of --scan-map, --rotation-shim, "
+                        "--collision-guard with it (it sets all three)")
+        args.scan_map, args.collision_guard = True, True
+        args.rotation_shim = DEPLOYED_SHIM_DEG
     try:
         shim = rotation_shim_threshold(args.rotation_shim)
         check_outputs(args)
@@ -327,7 +344,8 @@ def main(argv: list[str] | None = None) -> int:
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
         planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner] = []
-        modes = [""] + ["+global-plan"] * args.global_plan + ["+scan-map"] * args.scan_map
+        first = [] if args.deployed else [""]  # the plain run
+        modes = first + ["+global-plan"] * args.global_plan + ["+scan-map"] * args.scan_map
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
