@@ -182,10 +182,11 @@ def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -
     # the same planner, steered elsewhere: its trajectories differ
     assert any(a["trajectory"] != b["trajectory"]
                for a, b in zip(plain["results"], mapped["results"], strict=True))  # fmt: skip
-    # the guide is recorded: the carrot 1.5 goal radii (the UGV's: 1 m) along the plan
+    # the guide is recorded: the carrot 1.5 goal radii (the UGV's: 1 m) along the plan,
+    # cells of 5 cm
     assert "scan_map" not in plain
     assert mapped["scan_map"]["lookahead"] == pytest.approx(1.5)
-    assert mapped["scan_map"]["resolution"] == pytest.approx(0.1)
+    assert mapped["scan_map"]["resolution"] == pytest.approx(0.05)
 
 
 def test_lookahead_moves_the_carrot_on_the_scan_map(tmp_path: Path) -> None:

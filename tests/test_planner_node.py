@@ -28,6 +28,7 @@ from visualization_msgs.msg import MarkerArray
 from mentor_core.errors import ConfigError, FileFormatError, MentorError
 from mentor_core.files.genome_file import save_genome
 from mentor_core.navigation.guide import guide_config
+from mentor_core.navigation.scan_map import scan_map_resolution
 from mentor_core.runtime.guided_planner import GuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.wiring import Wiring, wire_pose
@@ -435,6 +436,15 @@ def test_a_scan_map_of_size_0_covers_the_arena_in_the_odometry_frame(graph: Grap
     # odom sits at (1, 0.5) in map, turned a quarter: map's [0, 4]^2 is [-0.5, 3.5] x [-3, 1]
     assert scan.origin == pytest.approx((-0.5, -3.0))
     assert scan.hits.shape[0] * scan.resolution == pytest.approx(4.0)
+
+
+@pytest.mark.parametrize("cell", [0.0, 0.1])
+def test_the_scan_maps_cell_is_the_profiles_unless_given(graph: Graph, cell: float) -> None:
+    planner = _planner(graph, scan_map=True, scan_map_size=4.0, scan_map_resolution=cell)
+    guide = planner.global_plan.planner.scan  # type: ignore[union-attr]
+    want = cell or scan_map_resolution(get_profile("swarm"))
+    assert guide.map.resolution == want and guide.guide.config.resolution == want
+    assert guide.map.hits.shape == (round(4.0 / want),) * 2
 
 
 @pytest.mark.parametrize("keep", [False, True])

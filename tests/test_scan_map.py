@@ -29,9 +29,9 @@ REGRESSION = Path(__file__).resolve().parents[1] / "bags" / "regression"
 WALL = World(12.0, np.array([[5.9, 0.0, 6.1, 9.0]]))
 
 
-def test_the_map_cell_is_half_the_footprint_radius() -> None:
-    assert scan_map_resolution(UGV) == 0.1  # the cells the experiments measured
-    assert scan_map_resolution(get_profile("swarm")) == 0.025
+def test_the_map_cell_is_a_quarter_of_the_footprint_radius_at_least_25_mm() -> None:
+    assert scan_map_resolution(UGV) == 0.05  # the cells chosen on the validation split
+    assert scan_map_resolution(get_profile("swarm")) == 0.025  # the floor
 
 
 def test_a_ray_clears_the_cells_before_its_hit_and_marks_the_hit() -> None:
@@ -131,7 +131,9 @@ def test_a_kept_map_plans_the_next_goal_round_what_was_read() -> None:
         pose = np.array([5.4, y, math.pi / 2])
         mapped.decide(sensor_readings(pose[None], UGV, WALL)[0], pose, (9.0, 4.0))
     read = mapped.scan.map.data
-    assert (read[:, 59:61] == OCCUPIED).sum() > 30  # the wall, every few cells of y 1-8 m
+    cell = scan_map_resolution(UGV)
+    wall = slice(round(5.9 / cell), round(6.1 / cell))  # the wall's columns, x 5.9-6.1 m
+    assert (read[:, wall] == OCCUPIED).sum() > 3.0 / cell  # every few cells of y 1-8 m
     start, blind = np.array([3.0, 4.0, 0.0]), np.full(UGV.n_sensors, np.inf)
 
     mapped.reset(keep_map=True)  # the next goal, in the same place: the map stays

@@ -33,6 +33,7 @@ ARGUMENTS = {
     "collision_guard": "false",
     "scan_map": "false",
     "scan_map_size": "20.0",
+    "scan_map_resolution": "0.0",
     "scan_map_origin": "[-10.0, -10.0]",
     "scan_map_keep": "true",
 }
@@ -54,6 +55,7 @@ def generate_launch_description() -> LaunchDescription:
             "collision_guard": ParameterValue(config["collision_guard"], value_type=bool),
             "scan_map": ParameterValue(config["scan_map"], value_type=bool),
             "scan_map_size": ParameterValue(config["scan_map_size"], value_type=float),
+            "scan_map_resolution": ParameterValue(config["scan_map_resolution"], value_type=float),
             # no value_type: the string is read as YAML, a list of floats
             "scan_map_origin": ParameterValue(config["scan_map_origin"]),
             "scan_map_keep": ParameterValue(config["scan_map_keep"], value_type=bool),

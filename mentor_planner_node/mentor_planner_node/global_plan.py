@@ -109,7 +109,8 @@ class GlobalPlan:
             self._keep_map = bool(values["scan_map_keep"])
             self._map_pub = node.create_publisher(OccupancyGridMsg, "scan_map", QOS_MAP)
             self._map_sent: int | None = None  # node clock (ns) of the last publication
-            self._config = scan_guide_config(planner.profile, float(values["lookahead"]) or None)
+            self._config = scan_guide_config(planner.profile, float(values["lookahead"]) or None,
+                                             float(values["scan_map_resolution"]) or None)
             size = float(values["scan_map_size"])
             origin = [float(v) for v in values["scan_map_origin"]]
             if len(origin) != 2 or not all(math.isfinite(v) for v in origin):
@@ -282,6 +283,13 @@ def attach(
                 "scan_map_size",
                 0.0,
                 _descriptor("m, side of the scan map's square (0: the simulator's arena)",
+                            low=0.0),
+            ),
+            (
+                "scan_map_resolution",
+                0.0,
+                _descriptor("m, the scan map's cell (0: the profile's, a quarter of the "
+                            "footprint radius, at least 2.5 cm); coarser cells plan faster",
                             low=0.0),
             ),
             (
