@@ -60,6 +60,15 @@ def rotation_shim_threshold(degrees: float | None) -> float | None:
     return math.radians(degrees)
 
 
+def check_deployed(args: argparse.Namespace) -> None:
+    """MentorError when ``--deployed`` comes with one of the flags it sets itself
+    (``--scan-map``, ``--rotation-shim``, ``--collision-guard``)."""
+    if args.deployed and (args.scan_map or args.rotation_shim is not None
+                          or args.collision_guard):  # fmt: skip
+        raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
+                          "--collision-guard with it (it sets all three)")
+
+
 def _whole(text: str, least: int, expected: str) -> int:
     try:
         value = int(text)

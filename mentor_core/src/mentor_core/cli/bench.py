@@ -43,7 +43,7 @@ from mentor_core.benchmark.suite import (
     reference_profile,
     shipped_limits,
 )
-from mentor_core.cli.arguments import rotation_shim_threshold
+from mentor_core.cli.arguments import check_deployed, rotation_shim_threshold
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.sim.families import FAMILIES
@@ -120,10 +120,8 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         raise MentorError("--lookahead must be positive (m)")
     if args.lookahead is not None and not (args.scan_map or args.deployed):
         raise MentorError("--lookahead: only with --scan-map or --deployed")
+    check_deployed(args)
     if args.deployed:
-        if args.scan_map or args.rotation_shim is not None or args.collision_guard:
-            raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
-                              "--collision-guard with it (it sets all three)")
         chosen = [as_deployed(c, args.lookahead) for c in genomes]
         chosen += _variants(baselines, True, True, args.lookahead)
     else:

@@ -46,6 +46,7 @@ from mentor_core.atomic import write_json_atomic
 from mentor_core.benchmark.contenders import DEPLOYED_SHIM_DEG
 from mentor_core.cli.arguments import (
     Parser,
+    check_deployed,
     count,
     duration,
     fail,
@@ -330,13 +331,11 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
-    if args.deployed:
-        if args.scan_map or args.rotation_shim is not None or args.collision_guard:
-            return fail("mentor-eval", "--deployed: give none of --scan-map, --rotation-shim, "
-                        "--collision-guard with it (it sets all three)")
-        args.scan_map, args.collision_guard = True, True
-        args.rotation_shim = DEPLOYED_SHIM_DEG
     try:
+        check_deployed(args)
+        if args.deployed:
+            args.scan_map, args.collision_guard = True, True
+            args.rotation_shim = DEPLOYED_SHIM_DEG
         shim = rotation_shim_threshold(args.rotation_shim)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
