@@ -48,7 +48,9 @@ from mentor_core.sim.world import World
 
 FloatArray = NDArray[np.float64]
 
-#: decisions of readings the guard remembers
+#: decisions of readings the guard remembers; longer memories lost on the validation split
+#: (remembered beam arcs block gaps: benchmarks/RESULTS.md, "A longer memory for the
+#: collision guard")
 MEMORY = 3
 #: heading changes tried across ``[-h, h]`` when the planner's arc would hit
 TURNS = 9
