@@ -11,6 +11,9 @@ every generation of the single framework) only the best genome's is computed, an
 generation computes every G for the final files (``docs/algorithm.md``, "G where it is
 ranked"). ``benchmarks/generation_bench.py`` times one generation of evolved-looking genomes
 instead; this is the share in a real run, whose genomes' experience grows as they learn.
+It switches off the in-process evaluator's overlap (``training.gain_overlap``), so that every G
+is computed after its simulation, in the calling thread, where the timer sees it;
+``benchmarks/g_overlap.py`` measures G's cost with the overlap.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from typing import Any
 
 import mentor_core.training.problem as problem
 from mentor_core.cli.train import main as mentor_train
+from mentor_core.training.gain_overlap import GainOverlap
 
 
 def run(seed: int, out: Path, train_args: Sequence[str]) -> list[tuple[int, float, int]]:
@@ -39,6 +43,8 @@ def run(seed: int, out: Path, train_args: Sequence[str]) -> list[tuple[int, floa
         return gains
 
     problem.experience_gains_packed = timed  # type: ignore[assignment]
+    available = GainOverlap.__dict__["available"]  # the staticmethod itself
+    GainOverlap.available = staticmethod(lambda: False)  # type: ignore[method-assign]
     try:
         mentor_train([*train_args, "--seed", str(seed), "--out", str(out), "--quiet"])
     except SystemExit as stop:
@@ -46,6 +52,7 @@ def run(seed: int, out: Path, train_args: Sequence[str]) -> list[tuple[int, floa
             raise
     finally:
         problem.experience_gains_packed = inner
+        GainOverlap.available = available
     return calls
 
 

@@ -110,6 +110,25 @@ def _gains_kernel(
     return gains
 
 
+@compiled(nogil=True)
+def _gains_claimed(
+    points: np.ndarray,
+    offsets: np.ndarray,
+    kernel: int,
+    gains: np.ndarray,
+    claimed: np.ndarray,
+    reverse: bool,
+) -> None:  # pragma: no cover - compiled
+    """``gains[s]`` for every slice whose ``claimed[s]`` is 0, claiming it first, in the
+    calling thread without the GIL; slices in order, or last first."""
+    n_sets = offsets.shape[0] - 1
+    for i in range(n_sets):
+        s = n_sets - 1 - i if reverse else i
+        if claimed[s] == 0:
+            claimed[s] = 1
+            gains[s] = _gain_kernel(points[offsets[s] : offsets[s + 1]], kernel)
+
+
 # --------------------------------------------------------------------------------------------
 # public API
 
@@ -180,6 +199,45 @@ def experience_gains_packed(
     Raises:
         ValueError: as ``experience_gain``; offsets not rising within ``[0, n]``.
     """
+    values, at = _packed(points, offsets)
+    chosen = _resolve(method)
+    if chosen == "numpy":
+        return np.array([_prim_numpy(values[a:b] + 0.0) for a, b in pairwise(at.tolist())])
+    gains: np.ndarray = _gains_kernel(values, at, _KERNELS.index(chosen))
+    return gains
+
+
+def experience_gains_shared(
+    points: ArrayLike,
+    offsets: ArrayLike,
+    gains: np.ndarray,
+    claimed: np.ndarray,
+    *,
+    reverse: bool = False,
+) -> None:
+    """Fill ``gains[s]`` with ``experience_gains_packed(points, offsets)[s]`` for every slice
+    whose ``claimed[s]`` is 0, claiming it first; last slice first with ``reverse``.
+
+    For threads sharing one batch of slices (``training.gain_overlap``): the compiled kernel
+    releases the GIL, so several threads can call this on the same arrays at once; a slice
+    two threads claim together is computed by both, to the same value. Read ``gains`` after
+    every call has returned. Without numba it runs as plain Python (correct but slow).
+
+    Raises:
+        ValueError: as ``experience_gains_packed``; ``gains`` not a float64 vector or
+            ``claimed`` not an int8 vector of one entry per slice.
+    """
+    values, at = _packed(points, offsets)
+    n_sets = len(at) - 1
+    if gains.dtype != np.float64 or gains.shape != (n_sets,):
+        raise ValueError(f"gains: expected a float64 vector of {n_sets}")
+    if claimed.dtype != np.int8 or claimed.shape != (n_sets,):
+        raise ValueError(f"claimed: expected an int8 vector of {n_sets}")
+    _gains_claimed(values, at, _KERNELS.index("bounded"), gains, claimed, reverse)
+
+
+def _packed(points: ArrayLike, offsets: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """``points`` as a C-contiguous float64 matrix and ``offsets`` as int64, checked."""
     values = np.asarray(points, dtype=np.float64)
     if values.ndim != 2:
         raise ValueError(f"points: expected an (n, d) matrix, got shape {values.shape}")
@@ -188,9 +246,5 @@ def experience_gains_packed(
         raise ValueError(f"offsets: expected rising within [0, {len(values)}]")
     if not np.isfinite(values[at[0] : at[-1]]).all():
         raise ValueError("points: coordinates must be finite (NaN or inf found)")
-    chosen = _resolve(method)
-    if chosen == "numpy":
-        return np.array([_prim_numpy(values[a:b] + 0.0) for a, b in pairwise(at.tolist())])
     # the compiled kernels compare coordinates, never their bytes: -0.0 needs no copy
-    gains: np.ndarray = _gains_kernel(np.ascontiguousarray(values), at, _KERNELS.index(chosen))
-    return gains
+    return np.ascontiguousarray(values), at

@@ -26,13 +26,25 @@ _F = TypeVar("_F", bound=Callable[..., Any])
 prange: Callable[..., Any] = range if _numba is None else _numba.prange
 
 
-def compiled(parallel: bool = False, contract: bool = False) -> Callable[[_F], _F]:
+def compiled(
+    parallel: bool = False, contract: bool = False, nogil: bool = False
+) -> Callable[[_F], _F]:
     """numba.njit with on-disk caching and strict IEEE arithmetic.
 
     ``contract`` lets the compiler fuse a multiply and an add (one rounding instead of two):
     only for float32 filters whose error bound allows it, never for a value that is returned.
+    ``nogil`` releases the GIL while the kernel runs, so that it can run on a thread beside
+    Python code.
     """
     if _numba is None:
         return lambda function: function
     fastmath: bool | set[str] = {"contract"} if contract else False
-    return cast(Callable[[_F], _F], _numba.njit(cache=True, fastmath=fastmath, parallel=parallel))
+    return cast(
+        Callable[[_F], _F],
+        _numba.njit(cache=True, fastmath=fastmath, parallel=parallel, nogil=nogil),
+    )
+
+
+def thread_count() -> int:
+    """The threads numba's parallel kernels run on (``NUMBA_NUM_THREADS``); 1 without numba."""
+    return 1 if _numba is None else int(_numba.get_num_threads())

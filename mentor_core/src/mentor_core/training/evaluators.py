@@ -13,7 +13,6 @@ and, on Linux, on kill -9 too. Used as a context manager, an evaluator left by a
 
 from __future__ import annotations
 
-import itertools
 import logging
 import multiprocessing
 import os
@@ -31,14 +30,8 @@ import numpy as np
 from mentor_core.errors import ConfigError, MentorError, one_line
 from mentor_core.evolution.genome import Genome
 from mentor_core.training.child_processes import Reaper, die_with_parent
+from mentor_core.training.gain_overlap import GainOverlap, split_evenly
 from mentor_core.training.problem import Evaluation, GainScope, NavigationProblem
-
-
-def _chunks(n: int, parts: int) -> list[tuple[int, int]]:
-    """Split range(n) into at most ``parts`` contiguous, near-equal (lo, hi) slices."""
-    parts = max(1, min(parts, n))
-    bounds = np.linspace(0, n, parts + 1).round().astype(int)
-    return [(int(lo), int(hi)) for lo, hi in itertools.pairwise(bounds) if hi > lo]
 
 
 def _concat(parts: Sequence[Evaluation], gains: GainScope) -> Evaluation:
@@ -91,7 +84,36 @@ class Evaluator:
 
 
 class InProcessEvaluator(Evaluator):
-    """Evaluate in the calling process (the default)."""
+    """Evaluate in the calling process (the default).
+
+    Where numba has two threads or more, a generation's experience gains run on background
+    threads while the rest of it is simulated (:mod:`~.gain_overlap`; the same numbers).
+    ``overlap=False`` computes them after the simulation, as the other backends do.
+    """
+
+    def __init__(self, problem: NavigationProblem, overlap: bool = True) -> None:
+        super().__init__(problem)
+        self._overlap = GainOverlap() if overlap and GainOverlap.available() else None
+
+    def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
+        """As :meth:`Evaluator.evaluate`."""
+        return self.problem.evaluate(genomes, gains, self._overlap)
+
+    def describe(self) -> str:
+        """In process, and whether G overlaps the simulation."""
+        if self._overlap is None:
+            return "in process"
+        return f"in process (G on {_count(self._overlap.threads, 'background thread')})"
+
+    def close(self) -> None:
+        """Stop the background threads."""
+        if self._overlap is not None:
+            self._overlap.close()
+
+    def terminate(self) -> None:
+        """Stop the background threads, dropping G tasks not started."""
+        if self._overlap is not None:
+            self._overlap.close(wait=False)
 
 
 class PoolEvaluator(Evaluator):
@@ -121,7 +143,7 @@ class PoolEvaluator(Evaluator):
 
     def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
         """Evaluate contiguous chunks in parallel and concatenate them in order."""
-        chunks = _chunks(len(genomes), self.workers)
+        chunks = split_evenly(len(genomes), self.workers)
         if len(chunks) <= 1:
             return self.problem.evaluate(genomes, gains)
         # the problem (a world and its scenarios) is small, so it travels with each chunk
@@ -331,7 +353,7 @@ class RayEvaluator(Evaluator):
 
     def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
         """Evaluate contiguous chunks as Ray tasks and concatenate them in order."""
-        chunks = _chunks(len(genomes), self.workers)
+        chunks = split_evenly(len(genomes), self.workers)
         if not chunks:
             return self.problem.evaluate(genomes, gains)
         refs = [

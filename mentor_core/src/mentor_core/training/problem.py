@@ -26,7 +26,7 @@ goal, the direction of the shortest way round the obstacles at the distance stil
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -50,6 +50,7 @@ from mentor_core.sim.episode import EpisodeBatch, run_episodes
 from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
+from mentor_core.training.gain_overlap import GainOverlap
 
 OBJECTIVE_NAMES = ("performance", "experience_gain")
 GoalDistanceKind = Literal["euclidean", "geodesic"]
@@ -208,49 +209,64 @@ class NavigationProblem:
             time_budgets=self.time_budget, input_goals=self._input_goals,
         )  # fmt: skip
 
-    def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
+    def evaluate(
+        self,
+        genomes: Sequence[Genome],
+        gains: GainScope = "all",
+        overlap: GainOverlap | None = None,
+    ) -> Evaluation:
         """Objectives (F, G) and outcome rates of each genome; G is 0 without experience.
 
         ``gains="best"``: G only for the genome of the highest F (the first of equals), NaN
-        for the others (module docstring)."""
+        for the others (module docstring). ``overlap``: with ``gains="all"``, simulate in
+        parts and compute the first parts' G on its background threads meanwhile
+        (:mod:`~mentor_core.training.gain_overlap`); the numbers are the same."""
         if gains not in ("all", "best"):
             raise ValueError(f"gains must be 'all' or 'best', got {gains!r}")
         n_gen, n_scen = len(genomes), len(self.scenarios)
-        if n_gen == 0:
-            empty = np.zeros(0, dtype=np.float64)
-            none = np.zeros((0, 2 * n_scen), dtype=np.float64)
-            return Evaluation(np.zeros((0, 2), dtype=np.float64), empty, empty, none)
-        batch = self.simulate(genomes)
+        objectives = np.zeros((n_gen, 2), dtype=np.float64)
+        success = np.zeros(n_gen, dtype=np.float64)
+        collision = np.zeros(n_gen, dtype=np.float64)
+        behaviour = np.zeros((n_gen, 2 * n_scen), dtype=np.float64)
+        all_gains = self.with_experience and gains == "all"
+        parts = overlap.parts(n_gen) if overlap is not None and all_gains else [(0, n_gen)]
+        pending: list[tuple[int, int, Callable[[], NDArray[np.float64]]]] = []
+        for lo, hi in parts if n_gen else []:
+            batch = self.simulate(genomes[lo:hi])
+            objectives[lo:hi, 0] = self.performance(batch).reshape(hi - lo, n_scen).sum(axis=1)
+            success[lo:hi] = batch.reached.reshape(hi - lo, n_scen).mean(axis=1)
+            collision[lo:hi] = batch.collided.reshape(hi - lo, n_scen).mean(axis=1)
+            behaviour[lo:hi] = self.behaviour(batch)
+            if not self.with_experience:
+                continue
+            # genome g's points are rows[at[g S]:at[(g + 1) S]] (genome-major robots)
+            rows, at = batch.packed_experience()
+            per_genome = at[::n_scen]
+            if gains == "best":  # one part: the whole call's best
+                g = int(np.argmax(objectives[:, 0]))
+                objectives[:, 1] = np.nan
+                objectives[g, 1] = experience_gains_packed(rows, per_genome[g : g + 2])[0]
+            elif overlap is not None:
+                pending.append((lo, hi, overlap.submit(rows, per_genome)))
+            else:
+                objectives[lo:hi, 1] = experience_gains_packed(rows, per_genome)
+        for lo, hi, gathered in pending:
+            objectives[lo:hi, 1] = gathered()
+        return Evaluation(objectives, success, collision, behaviour)
+
+    def performance(self, batch: EpisodeBatch) -> NDArray[np.float64]:
+        """F_i of each robot of ``batch`` (genome-major over this problem's scenarios): paper
+        eqs. 3-4, or with the path's credit (class docstring)."""
         if self._shortest is None:
-            per_scenario = scenario_performance(
+            return scenario_performance(
                 batch.reached,
                 batch.time_budget - batch.time_used,
                 batch.time_budget,
                 self.final_distance(batch),
-            ).reshape(n_gen, n_scen)
-        else:
-            credit = path_credit(np.tile(self._shortest, n_gen), batch.path_length(self.profile))
-            per_scenario = credited_performance(
-                batch.reached, credit, self.final_distance(batch)
-            ).reshape(n_gen, n_scen)
-        objectives = np.zeros((n_gen, 2), dtype=np.float64)
-        objectives[:, 0] = per_scenario.sum(axis=1)
-        if self.with_experience:
-            # genome g's points are rows[at[g S]:at[(g + 1) S]] (genome-major robots)
-            rows, at = batch.packed_experience()
-            per_genome = at[::n_scen]
-            if gains == "all":
-                objectives[:, 1] = experience_gains_packed(rows, per_genome)
-            else:
-                g = int(np.argmax(objectives[:, 0]))
-                objectives[:, 1] = np.nan
-                objectives[g, 1] = experience_gains_packed(rows, per_genome[g : g + 2])[0]
-        return Evaluation(
-            objectives=objectives,
-            success_rate=batch.reached.reshape(n_gen, n_scen).mean(axis=1),
-            collision_rate=batch.collided.reshape(n_gen, n_scen).mean(axis=1),
-            behaviour=self.behaviour(batch),
-        )
+            )
+        n_gen = len(batch.reached) // len(self.scenarios)
+        credit = path_credit(np.tile(self._shortest, n_gen), batch.path_length(self.profile))
+        return credited_performance(batch.reached, credit, self.final_distance(batch))
 
     def behaviour(self, batch: EpisodeBatch) -> NDArray[np.float64]:
         """Final positions of ``batch``'s robots over their world's size, (n_genomes, 2 S)."""

@@ -315,9 +315,12 @@ def _train(
             for callback in callbacks:
                 callback(record)
         rebuilt = _complete(run, paths, evaluator) if run.generation >= total else ()
-    finally:
-        if own_evaluator:
-            evaluator.close()
+    except BaseException:
+        if own_evaluator:  # interrupted: drop the work not started
+            evaluator.terminate()
+        raise
+    if own_evaluator:
+        evaluator.close()
 
     best_genome, best_obj = run.evolution.best()
     return TrainResult(

@@ -1,0 +1,101 @@
+"""Experience gains computed on background threads while the next genomes are simulated.
+
+A generation's simulation steps all its robots in one Python thread, and its experience gains
+(G, paper eqs. 5-8) are compiled kernels that need the simulation's points. Done one after the
+other, G's minimum spanning trees are a large share of a generation (``benchmarks/RESULTS.md``,
+"The experience gain beside the simulation"), and while the simulation runs, every core
+but one is idle. With a :class:`GainOverlap`,
+:meth:`~mentor_core.training.problem.NavigationProblem.evaluate` simulates the genomes in
+``chunks`` contiguous parts and hands each part's point sets to background threads as soon as
+the part is simulated (the kernels release the GIL). Once the last part is simulated, the
+calling thread computes the sets no thread has claimed yet. Every G is one point set's exact
+MST length computed by one thread (or by two, to the same value), so the values are those of
+:func:`~mentor_core.objectives.experience.experience_gains_packed` bit for bit, whatever the
+chunks and threads; and a genome's F does not depend on which genomes share its simulation.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mentor_core.objectives.experience import experience_gains_shared
+from mentor_core.objectives.jit import HAVE_NUMBA, thread_count
+
+#: parts a generation is simulated in: each part is a batch of its own, so more parts cost
+#: the simulation more per-decision overhead, fewer leave more of G after the last part
+#: (measured on the shipped UGV config: "The experience gain beside the simulation")
+DEFAULT_CHUNKS = 4
+
+
+def split_evenly(n: int, parts: int) -> list[tuple[int, int]]:
+    """``range(n)`` in at most ``parts`` contiguous, near-equal (lo, hi) slices."""
+    parts = max(1, min(parts, n))
+    bounds = np.linspace(0, n, parts + 1).round().astype(int)
+    return [(int(lo), int(hi)) for lo, hi in itertools.pairwise(bounds) if hi > lo]
+
+
+class GainOverlap:
+    """Background threads for the experience gains of a generation simulated in parts.
+
+    Args:
+        chunks: parts the genomes of an ``evaluate`` call are simulated in (at least 1).
+        threads: background threads; default one fewer than numba's threads (the simulation
+            keeps one core, and the calling thread helps at the end), at least one.
+
+    Use :meth:`available` to ask whether overlapping can pay here: it needs numba (the
+    kernels release the GIL) and at least two of its threads.
+    """
+
+    def __init__(self, chunks: int = DEFAULT_CHUNKS, threads: int | None = None) -> None:
+        if chunks < 1:
+            raise ValueError(f"chunks must be at least 1, got {chunks}")
+        if threads is not None and threads < 1:
+            raise ValueError(f"threads must be at least 1, got {threads}")
+        self.chunks = chunks
+        self.threads = threads or max(1, thread_count() - 1)
+        self._pool = ThreadPoolExecutor(self.threads, thread_name_prefix="mentor-gain")
+
+    @staticmethod
+    def available() -> bool:
+        """True where overlapping can pay: numba present, and two threads or more."""
+        return HAVE_NUMBA and thread_count() >= 2
+
+    def parts(self, n: int) -> list[tuple[int, int]]:
+        """The slices of ``n`` genomes simulated one after the other."""
+        return split_evenly(n, self.chunks)
+
+    def submit(
+        self, points: NDArray[np.float64], offsets: NDArray[np.int64]
+    ) -> Callable[[], NDArray[np.float64]]:
+        """Start the G of each slice ``points[offsets[s]:offsets[s + 1]]`` on the background
+        threads; returns a function that gives them in order (as
+        ``experience_gains_packed(points, offsets)``). That function first computes, last
+        first, the slices no thread has claimed yet: the calling thread, idle once its
+        simulation is done, shares what is left."""
+        n_sets = len(offsets) - 1
+        gains = np.zeros(n_sets, dtype=np.float64)
+        claimed = np.zeros(n_sets, dtype=np.int8)
+        # one call per thread and part: a call takes the GIL only to start and to end (the
+        # simulation holds it most of the time, and a thread waits about 5 ms for it)
+        futures = [
+            self._pool.submit(experience_gains_shared, points, offsets, gains, claimed)
+            for _ in range(min(self.threads, n_sets))
+        ]
+
+        def gather() -> NDArray[np.float64]:
+            experience_gains_shared(points, offsets, gains, claimed, reverse=True)
+            for future in futures:
+                future.result()
+            return gains
+
+        return gather
+
+    def close(self, wait: bool = True) -> None:
+        """Stop the threads; ``wait=False`` drops the parts not started (an interrupted run;
+        a thread already on a part ends it, a fraction of a second)."""
+        self._pool.shutdown(wait=wait, cancel_futures=not wait)
