@@ -16,7 +16,7 @@ from mentor_core.objectives.experience import experience_gains_packed, experienc
 from mentor_core.training import gain_overlap
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.evaluators import InProcessEvaluator
-from mentor_core.training.gain_overlap import GainOverlap, split_evenly
+from mentor_core.training.gain_overlap import GainOverlap, default_chunks, split_evenly
 from mentor_core.training.problem import Evaluation, NavigationProblem
 from mentor_core.training.trainer import make_problem, train
 
@@ -85,6 +85,14 @@ def test_split_evenly_covers_the_range_in_order() -> None:
     assert split_evenly(3, 7) == [(0, 1), (1, 2), (2, 3)]
     assert split_evenly(0, 4) == []
     assert GainOverlap(3, 1).parts(9) == [(0, 3), (3, 6), (6, 9)]
+
+
+def test_fewer_parts_where_more_threads_take_g(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert [default_chunks(t) for t in (1, 2, 3, 4, 16)] == [4, 4, 4, 2, 2]
+    monkeypatch.setattr(gain_overlap, "thread_count", lambda: 8)
+    overlap = GainOverlap()
+    assert (overlap.chunks, overlap.threads) == (2, 7)
+    overlap.close()
 
 
 def test_bad_settings_are_refused() -> None:

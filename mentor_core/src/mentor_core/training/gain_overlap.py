@@ -26,10 +26,18 @@ from numpy.typing import NDArray
 from mentor_core.objectives.experience import experience_gains_shared
 from mentor_core.objectives.jit import HAVE_NUMBA, thread_count
 
-#: parts a generation is simulated in: each part is a batch of its own, so more parts cost
-#: the simulation more per-decision overhead, fewer leave more of G after the last part
-#: (measured on the shipped UGV config: "The experience gain beside the simulation")
-DEFAULT_CHUNKS = 4
+
+def default_chunks(threads: int) -> int:
+    """Parts a generation is simulated in, for numba's ``threads``.
+
+    Each part is a batch of its own, so each part more costs the simulation its per-decision
+    overhead again (0.03-0.05 s for the shipped UGV config on two cores); fewer parts leave
+    more of G after the last one. With two threads, four parts cost a generation least
+    (measured: "The experience gain beside the simulation"). With four threads or more, the
+    background threads keep up and G after the simulation is short anyway, so two parts (a
+    model from those figures; not measured on more than two cores).
+    """
+    return 4 if threads < 4 else 2
 
 
 def split_evenly(n: int, parts: int) -> list[tuple[int, int]]:
@@ -43,7 +51,8 @@ class GainOverlap:
     """Background threads for the experience gains of a generation simulated in parts.
 
     Args:
-        chunks: parts the genomes of an ``evaluate`` call are simulated in (at least 1).
+        chunks: parts the genomes of an ``evaluate`` call are simulated in (at least 1);
+            default :func:`default_chunks` of numba's threads.
         threads: background threads; default one fewer than numba's threads (the simulation
             keeps one core, and the calling thread helps at the end), at least one.
 
@@ -51,7 +60,8 @@ class GainOverlap:
     kernels release the GIL) and at least two of its threads.
     """
 
-    def __init__(self, chunks: int = DEFAULT_CHUNKS, threads: int | None = None) -> None:
+    def __init__(self, chunks: int | None = None, threads: int | None = None) -> None:
+        chunks = default_chunks(thread_count()) if chunks is None else chunks
         if chunks < 1:
             raise ValueError(f"chunks must be at least 1, got {chunks}")
         if threads is not None and threads < 1:
