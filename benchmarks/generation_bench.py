@@ -11,10 +11,14 @@ the paper's mutation so they carry hidden nodes. ``--step-max`` runs the planner
 shorter step, as the shipped UGV training configs do (``step_max: 0.5``; longer episodes);
 ``--step-min`` and ``--clearance-margin`` set the rest of their step rule (0.02 and 0.2 m:
 ``--step-max 0.5 --step-min 0.02 --clearance-margin 0.2`` is the shipped UGV planner).
-Also times the experience gain alone (``experience_gains`` on the generation's point sets, as
-the evaluator calls it: 100 MSTs spread over numba's threads) and its share of an in-process
-generation, in wall-clock seconds and in CPU seconds of this process (all threads; steadier
-than wall time when other jobs share the cores). Prints JSON. ``benchmarks/side_by_side.py``
+Also times the experience gain alone (``experience_gains`` on the generation's point sets: 100
+MSTs spread over numba's threads) and its share of an in-process generation, in wall-clock
+seconds and in CPU seconds of this process (all threads; steadier than wall time when other
+jobs share the cores). The in-process evaluator runs G beside the simulation where numba has
+two threads or more (``training.gain_overlap``), so G alone is no longer what it adds to a
+generation: ``experience_gain_cost_workers1`` is the in-process generation less the simulation
+alone (each the best of ``--repeats``, taken in turn), and ``experience_gain_cost_share_workers1``
+that over the generation. Prints JSON. ``benchmarks/side_by_side.py``
 runs this script against two checkouts. ``--config`` takes the training problem of a trainer
 config file instead (its robot, planner settings, pairs and time budgets;
 ``--scenarios`` then sets its DoE scenario count), to compare the cost of two configs.
@@ -113,12 +117,16 @@ def main() -> None:
     for workers in args.workers:
         with make_evaluator(problem, workers) as evaluator:
             evaluator.evaluate(genomes)  # warm-up: numba compile / pool start
-            times, cpu = [], []
+            times, cpu, simulation = [], [], []
             for _ in range(args.repeats):
                 t0, c0 = time.perf_counter(), time.process_time()
                 result = evaluator.evaluate(genomes)
                 times.append(time.perf_counter() - t0)
                 cpu.append(time.process_time() - c0)
+                if workers == 1:
+                    t0 = time.perf_counter()
+                    problem.simulate(genomes)
+                    simulation.append(time.perf_counter() - t0)
         if reference is None:
             reference = result.objectives
             out["objectives_sha256"] = hashlib.sha256(reference.tobytes()).hexdigest()
@@ -127,12 +135,12 @@ def main() -> None:
             out["experience_gain_share_workers1"] = mst_seconds / min(times)
             out["cpu_seconds_per_generation_workers1"] = min(cpu)
             out["cpu_experience_gain_share_workers1"] = min(mst_cpu) / min(cpu)
+            out["seconds_simulation_only"] = min(simulation)
+            out["experience_gain_cost_workers1"] = min(times) - min(simulation)
+            out["experience_gain_cost_share_workers1"] = 1.0 - min(simulation) / min(times)
         out[f"identical_to_first_backend_workers{workers}"] = bool(
             np.array_equal(reference, result.objectives)
         )
-    t0 = time.perf_counter()
-    problem.simulate(genomes)
-    out["seconds_simulation_only"] = time.perf_counter() - t0
     print(json.dumps(out, indent=2))
 
 
