@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -47,7 +48,7 @@ def test_overlapped_gains_equal_the_plain_evaluation(
     plain = problem.evaluate(genomes)
     assert (plain.objectives[:, 1] > 0).all()  # G was computed
     assert len(set(plain.objectives[:, 1].tolist())) > 1
-    overlap = GainOverlap(chunks, threads)
+    overlap = GainOverlap(chunks, threads, min_part_robots=1)
     try:
         assert_identical(problem.evaluate(genomes, overlap=overlap), plain)
         # the best genome's G alone: one part, as without the overlap
@@ -84,7 +85,15 @@ def test_split_evenly_covers_the_range_in_order() -> None:
     assert split_evenly(10, 4) == [(0, 2), (2, 5), (5, 8), (8, 10)]
     assert split_evenly(3, 7) == [(0, 1), (1, 2), (2, 3)]
     assert split_evenly(0, 4) == []
-    assert GainOverlap(3, 1).parts(9) == [(0, 3), (3, 6), (6, 9)]
+    assert GainOverlap(3, 1, min_part_robots=1).parts(9) == [(0, 3), (3, 6), (6, 9)]
+
+
+def test_parts_keep_enough_robots_to_pay() -> None:
+    overlap = GainOverlap(4, 1, min_part_robots=1500)
+    assert len(overlap.parts(100, 60)) == 4  # the shipped UGV config: 6,000 robots
+    assert len(overlap.parts(100, 30)) == 2
+    assert overlap.parts(100, 20) == [(0, 100)]  # the Swarm-Robot's 2,000: one part
+    overlap.close()
 
 
 def test_fewer_parts_where_more_threads_take_g(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -100,6 +109,8 @@ def test_bad_settings_are_refused() -> None:
         GainOverlap(0)
     with pytest.raises(ValueError, match="threads"):
         GainOverlap(2, 0)
+    with pytest.raises(ValueError, match="min_part_robots"):
+        GainOverlap(2, 1, min_part_robots=0)
 
 
 def test_a_closed_overlap_takes_no_more_work(problem: NavigationProblem) -> None:
@@ -115,15 +126,27 @@ def test_training_in_process_gives_the_same_run_with_and_without_the_overlap(
     # where numba has one thread the evaluator would not overlap: force it, one thread
     monkeypatch.setattr(GainOverlap, "available", staticmethod(lambda: True))
     monkeypatch.setattr(gain_overlap, "thread_count", lambda: 2)
+    monkeypatch.setattr(gain_overlap, "MIN_PART_ROBOTS", 1)  # the tiny run's 18 robots
+    submitted: list[int] = []
+    submit = GainOverlap.submit
+
+    def counted(self: GainOverlap, points: Any, offsets: Any) -> Any:
+        submitted.append(len(offsets) - 1)
+        return submit(self, points, offsets)
+
+    monkeypatch.setattr(GainOverlap, "submit", counted)
     config = TrainerConfig.from_dict(dict(TINY))
     problem = make_problem(config)
     overlapped = InProcessEvaluator(problem)
     assert overlapped.describe() == "in process (G on 1 background thread)"
     train(config, seed=4, out_dir=tmp_path / "a", evaluator=overlapped)
     overlapped.close()
+    assert len(submitted) >= 4 and sum(submitted) >= 12  # parts of the 6 genomes went by it
+    submitted.clear()
     plain = InProcessEvaluator(problem, overlap=False)
     assert plain.describe() == "in process"
     train(config, seed=4, out_dir=tmp_path / "b", evaluator=plain)
+    assert not submitted
     for name in ("best_genome.json", "population.json", "pareto.json"):
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
     assert history(tmp_path / "a") == history(tmp_path / "b")

@@ -40,6 +40,13 @@ def default_chunks(threads: int) -> int:
     return 4 if threads < 4 else 2
 
 
+#: fewest robots a part is simulated with: below it, a part's per-decision overhead costs more
+#: than its G saves (measured: the shipped UGV config's 6,000 robots a generation cost least
+#: in 4 parts of 1,500, more in 6 of 1,000; the Swarm-Robot's 2,000 gained nothing in 2 parts
+#: and lost in 4 of 500: "The experience gain beside the simulation")
+MIN_PART_ROBOTS = 1500
+
+
 def split_evenly(n: int, parts: int) -> list[tuple[int, int]]:
     """``range(n)`` in at most ``parts`` contiguous, near-equal (lo, hi) slices."""
     parts = max(1, min(parts, n))
@@ -56,17 +63,29 @@ class GainOverlap:
         threads: background threads; default one fewer than numba's threads (the simulation
             keeps one core, and the calling thread helps at the end), at least one.
 
+        min_part_robots: fewest robots a part is simulated with (:data:`MIN_PART_ROBOTS`);
+            a generation too small for two parts is evaluated as without the overlap.
+
     Use :meth:`available` to ask whether overlapping can pay here: it needs numba (the
     kernels release the GIL) and at least two of its threads.
     """
 
-    def __init__(self, chunks: int | None = None, threads: int | None = None) -> None:
+    def __init__(
+        self,
+        chunks: int | None = None,
+        threads: int | None = None,
+        min_part_robots: int | None = None,
+    ) -> None:
         chunks = default_chunks(thread_count()) if chunks is None else chunks
         if chunks < 1:
             raise ValueError(f"chunks must be at least 1, got {chunks}")
         if threads is not None and threads < 1:
             raise ValueError(f"threads must be at least 1, got {threads}")
+        min_part_robots = MIN_PART_ROBOTS if min_part_robots is None else min_part_robots
+        if min_part_robots < 1:
+            raise ValueError(f"min_part_robots must be at least 1, got {min_part_robots}")
         self.chunks = chunks
+        self.min_part_robots = min_part_robots
         self.threads = threads or max(1, thread_count() - 1)
         self._pool = ThreadPoolExecutor(self.threads, thread_name_prefix="mentor-gain")
 
@@ -75,9 +94,12 @@ class GainOverlap:
         """True where overlapping can pay: numba present, and two threads or more."""
         return HAVE_NUMBA and thread_count() >= 2
 
-    def parts(self, n: int) -> list[tuple[int, int]]:
-        """The slices of ``n`` genomes simulated one after the other."""
-        return split_evenly(n, self.chunks)
+    def parts(self, n: int, robots_per_genome: int = 1) -> list[tuple[int, int]]:
+        """The slices of ``n`` genomes (of ``robots_per_genome`` robots each: the problem's
+        scenarios) simulated one after the other: at most ``chunks``, each of at least
+        ``min_part_robots`` robots where there are two or more."""
+        most = (n * robots_per_genome) // self.min_part_robots
+        return split_evenly(n, max(1, min(self.chunks, most)))
 
     def submit(
         self, points: NDArray[np.float64], offsets: NDArray[np.int64]
