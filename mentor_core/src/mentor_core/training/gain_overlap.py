@@ -62,7 +62,6 @@ class GainOverlap:
             default :func:`default_chunks` of numba's threads.
         threads: background threads; default one fewer than numba's threads (the simulation
             keeps one core, and the calling thread helps at the end), at least one.
-
         min_part_robots: fewest robots a part is simulated with (:data:`MIN_PART_ROBOTS`);
             a generation too small for two parts is evaluated as without the overlap.
 
