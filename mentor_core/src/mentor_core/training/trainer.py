@@ -311,7 +311,8 @@ def _train(
             write_text_atomic(paths.history, history_csv(run.history))
             if run.generation == total:
                 _write_final_files(run, paths, genomes, evaluation, list(stats.labels))
-            write_json_atomic(paths.checkpoint, run.to_state())
+            # compact: several MB a generation, for the trainer to read, not for people
+            write_json_atomic(paths.checkpoint, run.to_state(), indent=None)
             for callback in callbacks:
                 callback(record)
         rebuilt = _complete(run, paths, evaluator) if run.generation >= total else ()
