@@ -230,8 +230,8 @@ class NavigationProblem:
         behaviour = np.zeros((n_gen, 2 * n_scen), dtype=np.float64)
         all_gains = self.with_experience and gains == "all"
         parts = overlap.parts(n_gen, n_scen) if overlap is not None and all_gains else []
-        overlap = overlap if len(parts) > 1 else None  # one part: G after, on all threads
-        parts = parts if overlap is not None else [(0, n_gen)]
+        if len(parts) < 2:  # one part: G after the simulation, on all threads
+            overlap, parts = None, [(0, n_gen)]
         pending: list[tuple[int, int, Callable[[], NDArray[np.float64]]]] = []
         for lo, hi in parts if n_gen else []:
             batch = self.simulate(genomes[lo:hi])
