@@ -8,11 +8,12 @@
 #   ones; a CONFIGS word is a shipped config name or a YAML file, labelled by its stem).
 # Runs go to OUT/<config>/<robot>-<framework>-s<seed>; finished ones are kept, interrupted
 # ones resume. Nothing here chooses a setting: the test split and the bags are only reported.
-# The benchmark also runs every planner on its scan map, behind the rotation shim and behind
-# the collision guard (STUDY_BENCH_FLAGS, default "--scan-map --rotation-shim 45
-# --collision-guard": the rows of benchmarks/RESULTS.md's headline tables beside the plain
-# ones; "" for the plain rows only), and the unseen bags are scored a second time that way
-# (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-...").
+# The benchmark runs every genome as the shipped planners are deployed, and the baselines
+# plain, guarded, on their scan map and both (STUDY_BENCH_FLAGS, default "--deployed": the
+# rows of benchmarks/RESULTS.md's headline tables; "--scan-map --rotation-shim 45
+# --collision-guard" for every variant of the genomes too, plain included, without the
+# Swarm-Robot's turn gain; "" for the plain rows only), and the unseen bags are scored a
+# second time that way (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-...").
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
@@ -23,7 +24,7 @@ SEEDS="${2:-1 2 3}"
 JOBS="${3:-2}"
 CONFIGS="${4:-original paper}"
 PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family
-read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---scan-map --rotation-shim 45 --collision-guard}"
+read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---deployed}"
 BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
 label() { basename "${1%.yaml}"; }

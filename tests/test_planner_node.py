@@ -503,3 +503,22 @@ def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(
 def test_a_rotation_shim_beyond_a_half_turn_is_refused(graph: Graph) -> None:
     with pytest.raises(MentorError, match="rotation_shim_deg"):
         _planner(graph, rotation_shim_deg=270.0)
+
+
+def test_with_a_turn_gain_the_node_answers_as_the_planner_with_that_gain(graph: Graph) -> None:
+    planner = _planner(graph, turn_gain=0.75)
+    assert planner.planner is not None and planner.planner.profile.turn_gain == 0.75
+    robot = Robot(graph)
+    reference = GenomePlanner.load(GENOME, "swarm", turn_gain=0.75)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
+    pose = (1.4, 1.1, 2.0)
+    assert graph.spin_until(lambda: robot.observe(10**9, [0.5, 0.5, 0.5], pose)
+                            or len(robot.commands) > 0)  # fmt: skip
+    got = robot.commands[0]
+    assert (got.linear.x, got.angular.z) == reference.command([0.5, 0.5, 0.5], pose, (1.0, 1.0))
+
+
+@pytest.mark.parametrize("gain", [0.0, 1.5])
+def test_a_turn_gain_outside_zero_to_one_is_refused(graph: Graph, gain: float) -> None:
+    with pytest.raises(MentorError, match="turn_gain"):
+        _planner(graph, turn_gain=gain)

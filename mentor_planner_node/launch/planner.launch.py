@@ -6,6 +6,8 @@
         scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]"
     ros2 launch mentor_planner_node planner.launch.py genome:=planners/ugv-paper-dual-s1.json \
         scan_map:=true rotation_shim_deg:=45.0 collision_guard:=true   # the headline planner
+    ros2 launch mentor_planner_node planner.launch.py genome:=planners/swarm-paper-dual-s1.json \
+        profile:=swarm scan_map:=true rotation_shim_deg:=45.0 collision_guard:=true turn_gain:=0.75
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
@@ -31,6 +33,7 @@ ARGUMENTS = {
     "use_sim_time": "false",
     "rotation_shim_deg": "0.0",
     "collision_guard": "false",
+    "turn_gain": "1.0",
     "scan_map": "false",
     "scan_map_size": "20.0",
     "scan_map_resolution": "0.0",
@@ -53,6 +56,7 @@ def generate_launch_description() -> LaunchDescription:
             "use_sim_time": ParameterValue(config["use_sim_time"], value_type=bool),
             "rotation_shim_deg": ParameterValue(config["rotation_shim_deg"], value_type=float),
             "collision_guard": ParameterValue(config["collision_guard"], value_type=bool),
+            "turn_gain": ParameterValue(config["turn_gain"], value_type=float),
             "scan_map": ParameterValue(config["scan_map"], value_type=bool),
             "scan_map_size": ParameterValue(config["scan_map_size"], value_type=float),
             "scan_map_resolution": ParameterValue(config["scan_map_resolution"], value_type=float),

@@ -52,6 +52,7 @@ class PlannerParameters:
     use_tf: bool
     rotation_shim_deg: float = 0.0
     collision_guard: bool = False
+    turn_gain: float = 1.0
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
@@ -127,6 +128,12 @@ def _declarations() -> list[tuple[str, Any, Any]]:
             _descriptor("no arc into what the scans of the last three decisions hit; a step "
                         "back when every arc ahead would hit (linear.x < 0)"),
         ),
+        (
+            "turn_gain",
+            1.0,
+            _descriptor("in (0, 1]: scale the network's turn by this gain (0.75 for the "
+                        "shipped Swarm-Robot planners; 1: as trained)", low=0.0),
+        ),
     ]
 
 
@@ -153,6 +160,9 @@ def check_parameters(
     shim = float(values["rotation_shim_deg"])
     if not 0.0 <= shim <= 180.0:
         raise PlannerSetupError(f"rotation_shim_deg: {shim} is not in [0, 180] deg")
+    gain = float(values["turn_gain"])
+    if not 0.0 < gain <= 1.0:
+        raise PlannerSetupError(f"turn_gain: {gain} is not in (0, 1]")
     kind = str(values["scan_kind"])
     if kind not in SCAN_KINDS:
         raise PlannerSetupError(f"scan_kind: {kind!r} is not one of {', '.join(SCAN_KINDS)}")
@@ -173,6 +183,7 @@ def check_parameters(
         use_tf=bool(values["use_tf"]),
         rotation_shim_deg=shim,
         collision_guard=bool(values["collision_guard"]),
+        turn_gain=gain,
     )
 
 

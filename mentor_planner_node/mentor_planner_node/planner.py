@@ -20,7 +20,8 @@ an unknown profile is one line on stderr and exit status 2.
 With ``global_plan`` the network steers along a path given on ``plan`` or planned on the
 map, with ``scan_map`` along a plan on a map of its own scans, which it publishes on
 ``scan_map`` (:mod:`.global_plan`); with ``collision_guard`` its decisions pass a collision guard
-(:mod:`mentor_core.sim.collision_guard`) that may answer with a step back (``linear.x < 0``).
+(:mod:`mentor_core.sim.collision_guard`) that may answer with a step back (``linear.x < 0``);
+``turn_gain`` scales the network's turn (:mod:`mentor_core.sim.turn_gain`).
 """
 
 from __future__ import annotations
@@ -120,7 +121,7 @@ class PlannerNode(Node):
         self.goal_radius = p.goal_radius
         shim = math.radians(p.rotation_shim_deg) if p.rotation_shim_deg > 0.0 else None
         self.planner = (
-            GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard)
+            GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard, p.turn_gain)
             if p.genome
             else None
         )

@@ -13,8 +13,8 @@ working directory: run it from the repository root, or give ``--genome``), for 2
 fast as the planners answer; ``--real-time-factor 1`` runs in real time (watch ``/clock``,
 ``/mentor/obstacles`` and the robots' topics in Foxglove or rviz). ``--headline`` runs the
 planners as the benchmark's headline planners: on a map of their own scans, behind the rotation
-shim and the collision guard (``mentor-bench --scan-map --rotation-shim 45
---collision-guard``). Discovery stays on this machine
+shim and the collision guard, with their robot's gain on the turn (``mentor-bench
+--deployed``). Discovery stays on this machine
 (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, ``ROS_DOMAIN_ID=42``) unless the environment
 says otherwise.
 """
@@ -141,6 +141,10 @@ def main(argv: list[str] | None = None) -> None:
         "time_limit": opts.time_limit,
         "record": opts.record,
     }
+    from rclpy.exceptions import ParameterException
+
+    from mentor_core import MentorError, deployed_turn_gain, genome_control_period
+
     planners = []
     # the node's parameters for mentor-bench --deployed (mentor_core's contenders.as_deployed)
     mode = {"scan_map": True, "rotation_shim_deg": 45.0, "collision_guard": True}
@@ -148,11 +152,9 @@ def main(argv: list[str] | None = None) -> None:
         genome = genomes.get(profile, f"bags/regression/{profile}_reference_genome.json")
         if not Path(genome).is_file():
             sys.exit(f"demo: {genome}: no such genome file (give --genome {profile}=FILE)")
-        values = {"genome": genome, "profile": profile, **(mode if opts.headline else {})}
+        deployed = {**mode, "turn_gain": deployed_turn_gain(profile)}
+        values = {"genome": genome, "profile": profile, **(deployed if opts.headline else {})}
         planners.append((f"/{name}", values))
-    from rclpy.exceptions import ParameterException
-
-    from mentor_core import MentorError, genome_control_period
 
     try:
         # the simulator steps at the period the genomes decide at (their metadata)

@@ -111,6 +111,7 @@ _EXPORTS: dict[str, str] = {
     # runtime
     "GenomePlanner": "mentor_core.runtime.planner",
     "genome_control_period": "mentor_core.runtime.planner",
+    "deployed_turn_gain": "mentor_core.runtime.planner",
     "DecisionGate": "mentor_core.runtime.planner",
     "ReferenceSimulator": "mentor_core.runtime.simulator",
     "Event": "mentor_core.runtime.simulator",
@@ -305,6 +306,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.planner import (
         GenomePlanner as GenomePlanner,
+    )
+    from mentor_core.runtime.planner import (
+        deployed_turn_gain as deployed_turn_gain,
     )
     from mentor_core.runtime.planner import (
         genome_control_period as genome_control_period,

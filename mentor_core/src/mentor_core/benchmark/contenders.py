@@ -29,7 +29,7 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
-from mentor_core.runtime.planner import planner_profile
+from mentor_core.runtime.planner import deployed_turn_gain, planner_profile
 from mentor_core.sim.episode import InputGoals, Policy
 from mentor_core.sim.robots import RobotProfile, with_planner
 from mentor_core.sim.world import Scenario
@@ -95,6 +95,14 @@ def behind_rotation_shim(contender: Contender, threshold: float) -> Contender:
     return dataclasses.replace(contender, name=SHIMMED + contender.name, profile=profile)
 
 
+def with_turn_gain(contender: Contender, gain: float) -> Contender:
+    """``contender`` (an evolved planner) with its network's turn scaled by ``gain``
+    (:mod:`mentor_core.sim.turn_gain`), its name unchanged (``bench.json`` lists the gain
+    among its settings). ConfigError for a gain outside ``(0, 1]``."""
+    profile = with_planner(contender.profile, turn_gain=gain, source="turn gain")
+    return dataclasses.replace(contender, profile=profile)
+
+
 def behind_collision_guard(contender: Contender) -> Contender:
     """``contender`` with a collision guard vetting its decisions against what its sensors
     read lately (:mod:`mentor_core.sim.collision_guard`), named ``guard-<name>``."""
@@ -106,14 +114,19 @@ def behind_collision_guard(contender: Contender) -> Contender:
 DEPLOYED_SHIM_DEG = 45.0
 
 
-def as_deployed(contender: Contender, lookahead: float | None = None) -> Contender:
+def as_deployed(
+    contender: Contender, lookahead: float | None = None, turn_gain: float | None = None
+) -> Contender:
     """``contender`` (an evolved planner) as the shipped planners are deployed and scored
     (``benchmarks/RESULTS.md``, "Where it stands"): on its scan map (:func:`on_scan_map`,
     ``lookahead``), behind the collision guard and a rotation shim of
-    :data:`DEPLOYED_SHIM_DEG`, named ``mapped-guard-shim-<name>`` (``mentor-bench
-    --deployed``; the planner node's ``scan_map``, ``rotation_shim_deg`` and
-    ``collision_guard``)."""
-    shimmed = behind_rotation_shim(contender, math.radians(DEPLOYED_SHIM_DEG))
+    :data:`DEPLOYED_SHIM_DEG`, with ``turn_gain`` on its network's turn (default its robot's:
+    :func:`~mentor_core.runtime.planner.deployed_turn_gain`), named
+    ``mapped-guard-shim-<name>`` (``mentor-bench --deployed``; the planner node's
+    ``scan_map``, ``rotation_shim_deg``, ``collision_guard`` and ``turn_gain``)."""
+    gain = deployed_turn_gain(contender.profile) if turn_gain is None else turn_gain
+    gained = with_turn_gain(contender, gain)
+    shimmed = behind_rotation_shim(gained, math.radians(DEPLOYED_SHIM_DEG))
     return on_scan_map(behind_collision_guard(shimmed), lookahead)
 
 

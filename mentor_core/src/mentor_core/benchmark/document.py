@@ -50,6 +50,7 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         "memory_units": profile.memory_units,
         **({} if profile.rotation_shim is None else {"rotation_shim": profile.rotation_shim}),
         **({"collision_guard": True} if profile.collision_guard else {}),
+        **({} if profile.turn_gain == 1.0 else {"turn_gain": profile.turn_gain}),
         "control_period": profile.control_period,
     }
 

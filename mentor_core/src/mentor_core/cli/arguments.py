@@ -60,13 +60,23 @@ def rotation_shim_threshold(degrees: float | None) -> float | None:
     return math.radians(degrees)
 
 
+def turn_gain_value(gain: float | None) -> float:
+    """``--turn-gain G`` as the profile's gain on the turn (1 when not given); MentorError
+    unless G lies in (0, 1]."""
+    if gain is None:
+        return 1.0
+    if not 0.0 < gain <= 1.0:
+        raise MentorError(f"--turn-gain must be in (0, 1], got {gain}")
+    return gain
+
+
 def check_deployed(args: argparse.Namespace) -> None:
     """MentorError when ``--deployed`` comes with one of the flags it sets itself
-    (``--scan-map``, ``--rotation-shim``, ``--collision-guard``)."""
+    (``--scan-map``, ``--rotation-shim``, ``--collision-guard``, ``--turn-gain``)."""
     if args.deployed and (args.scan_map or args.rotation_shim is not None
-                          or args.collision_guard):  # fmt: skip
+                          or args.collision_guard or args.turn_gain is not None):  # fmt: skip
         raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
-                          "--collision-guard with it (it sets all three)")
+                          "--collision-guard, --turn-gain with it (it sets them all)")
 
 
 def _whole(text: str, least: int, expected: str) -> int:

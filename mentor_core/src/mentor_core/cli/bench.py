@@ -33,6 +33,7 @@ from mentor_core.benchmark.contenders import (
     evolved,
     hand_written,
     on_scan_map,
+    with_turn_gain,
 )
 from mentor_core.benchmark.document import bench_document
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
@@ -43,7 +44,7 @@ from mentor_core.benchmark.suite import (
     reference_profile,
     shipped_limits,
 )
-from mentor_core.cli.arguments import check_deployed, rotation_shim_threshold
+from mentor_core.cli.arguments import check_deployed, rotation_shim_threshold, turn_gain_value
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.sim.families import FAMILIES
@@ -86,12 +87,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also run each planner but the oracle behind a collision guard that "
                         "vets each decision against what its sensors read lately and backs "
                         "up when every arc ahead would hit, as guard-<label>")
+    p.add_argument("--turn-gain", type=float, metavar="G",
+                   help="scale each genome's turn by G in (0, 1] in all its runs "
+                        "(default 1: as trained)")
     p.add_argument("--deployed", action="store_true",
                    help="run each genome only as the shipped planners are deployed: on its "
-                        "scan map behind the collision guard and a 45 deg rotation shim, as "
+                        "scan map behind the collision guard and a 45 deg rotation shim, with "
+                        "its robot's gain on the turn (Swarm-Robot 0.75), as "
                         "mapped-guard-shim-<label>; the baselines plain, guarded, on their "
-                        "scan map and both (not with --scan-map, --rotation-shim or "
-                        "--collision-guard)")
+                        "scan map and both (not with --scan-map, --rotation-shim, "
+                        "--collision-guard or --turn-gain)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     return p
@@ -121,6 +126,9 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     if args.lookahead is not None and not (args.scan_map or args.deployed):
         raise MentorError("--lookahead: only with --scan-map or --deployed")
     check_deployed(args)
+    gain = turn_gain_value(args.turn_gain)
+    if gain != 1.0:
+        genomes = [with_turn_gain(c, gain) for c in genomes]
     if args.deployed:
         chosen = [as_deployed(c, args.lookahead) for c in genomes]
         chosen += _variants(baselines, True, True, args.lookahead)

@@ -9,6 +9,7 @@
     mentor-eval a.json --bag bags/unseen/ugv --scan-map           # + on a map of its readings
     mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
     mentor-eval a.json --bag bags/unseen/ugv --collision-guard     # no arc into what was read
+    mentor-eval a.json --bag bags/unseen/swarm --turn-gain 0.75    # the network turns less
     mentor-eval a.json --bag bags/unseen/ugv --deployed            # only as deployed
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
@@ -22,8 +23,10 @@ world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run besi
 ``--rotation-shim`` runs the genomes behind a rotation shim
 (:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does;
 ``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`), as
-the planner node's ``collision_guard`` does. ``--deployed`` runs each genome only as the
-shipped planners are deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard,
+the planner node's ``collision_guard`` does; ``--turn-gain`` scales the network's turn
+(:mod:`mentor_core.sim.turn_gain`), as the planner node's ``turn_gain`` does. ``--deployed``
+runs each genome only as the shipped planners are deployed: the ``+scan-map`` run behind the
+shim (45 deg) and the guard, with the robot's gain on the turn (the Swarm-Robot's 0.75),
 without the plain run (:func:`mentor_core.benchmark.contenders.as_deployed`).
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
@@ -52,6 +55,7 @@ from mentor_core.cli.arguments import (
     fail,
     rotation_shim_threshold,
     seed,
+    turn_gain_value,
 )
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
 from mentor_core.errors import FileFormatError, MentorError
@@ -62,7 +66,7 @@ from mentor_core.navigation.guide import GuideConfig, guide_config, guided_goals
 from mentor_core.navigation.map_world import load_map_world, load_world_file
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
 from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner
-from mentor_core.runtime.planner import GenomePlanner, planner_profile
+from mentor_core.runtime.planner import GenomePlanner, deployed_turn_gain, planner_profile
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
@@ -279,11 +283,18 @@ def build_parser() -> argparse.ArgumentParser:
         "in the last three decisions, a step back when every arc ahead would hit",
     )
     p.add_argument(
+        "--turn-gain",
+        type=float,
+        metavar="G",
+        help="scale the network's turn by G in (0, 1] (default 1: as trained)",
+    )
+    p.add_argument(
         "--deployed",
         action="store_true",
         help="run each genome only as deployed: on the map of its own readings behind the "
-        "rotation shim (45 deg) and the collision guard, without the plain run (not with "
-        "--scan-map, --rotation-shim or --collision-guard)",
+        "rotation shim (45 deg) and the collision guard, with the robot's gain on the turn "
+        "(Swarm-Robot 0.75), without the plain run (not with --scan-map, --rotation-shim, "
+        "--collision-guard or --turn-gain)",
     )
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
@@ -337,8 +348,11 @@ def main(argv: list[str] | None = None) -> int:
             args.scan_map, args.collision_guard = True, True
             args.rotation_shim = DEPLOYED_SHIM_DEG
         shim = rotation_shim_threshold(args.rotation_shim)
+        gain = turn_gain_value(args.turn_gain)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
+        if args.deployed:
+            gain = deployed_turn_gain(profile)
         numbers, skipped = runnable(profile, world, scenarios, source)
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
@@ -352,6 +366,8 @@ def main(argv: list[str] | None = None) -> int:
                 planner = with_planner(planner, rotation_shim=shim, source=path)
             if args.collision_guard:
                 planner = with_planner(planner, collision_guard=True, source=path)
+            if gain != 1.0:
+                planner = with_planner(planner, turn_gain=gain, source=path)
             guide = guide_config(planner, lookahead=args.lookahead)
             mapped = scan_guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]

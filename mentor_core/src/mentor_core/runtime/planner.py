@@ -69,6 +69,7 @@ from mentor_core.sim.robots import (
     with_planner,
 )
 from mentor_core.sim.rotation_shim import rotation_shim
+from mentor_core.sim.turn_gain import turn_gain
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -112,6 +113,20 @@ def planner_profile(
         control_period=metadata.get("control_period"),
         source=source,
     )
+
+
+#: the gain on the network's turn (:mod:`mentor_core.sim.turn_gain`) the shipped planners are
+#: deployed with, per robot (absent: 1). Chosen on the benchmark's validation split
+#: (``benchmarks/RESULTS.md``, "A gain on the turn"): the Swarm-Robot's shipped planners reach
+#: 89.9 % of its 720 pairs as trained and 90.7 % at 0.75; the UGV's gained nothing.
+DEPLOYED_TURN_GAIN = {"swarm": 0.75}
+
+
+def deployed_turn_gain(profile: RobotProfile | str) -> float:
+    """The gain on the turn the shipped planners of a robot (a profile or its name) are
+    deployed with (:data:`DEPLOYED_TURN_GAIN`; 1 for any other robot)."""
+    name = profile if isinstance(profile, str) else profile.name
+    return DEPLOYED_TURN_GAIN.get(name, 1.0)
 
 
 def genome_control_period(genome_path: str | Path, profile_name: str) -> float:
@@ -165,16 +180,17 @@ class GenomePlanner:
     @classmethod
     def load(
         cls, genome_path: str | Path, profile_name: str, rotation_shim: float | None = None,
-        collision_guard: bool = False,
+        collision_guard: bool = False, turn_gain: float = 1.0,
     ) -> GenomePlanner:  # fmt: skip
         """Planner of a genome JSON file for a named profile; ``rotation_shim`` (rad), when
         given, puts it behind a rotation shim of that threshold whatever its metadata says
         (:mod:`mentor_core.sim.rotation_shim`); ``collision_guard`` behind a collision guard
-        on no arena (:mod:`mentor_core.sim.collision_guard`).
+        on no arena (:mod:`mentor_core.sim.collision_guard`); ``turn_gain`` scales its
+        network's turn (:mod:`mentor_core.sim.turn_gain`).
 
         FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
-        that does not fit it, a threshold outside (0, pi]); both one line naming the file or
-        key and the fault.
+        that does not fit it, a threshold outside (0, pi], a gain outside (0, 1]); both one
+        line naming the file or key and the fault.
         """
         genome, metadata = load_genome_and_metadata(genome_path)
         profile = planner_profile(get_profile(profile_name), metadata, genome_path)
@@ -182,6 +198,8 @@ class GenomePlanner:
             profile = with_planner(profile, rotation_shim=rotation_shim, source=genome_path)
         if collision_guard:
             profile = with_planner(profile, collision_guard=True, source=genome_path)
+        if turn_gain != 1.0:
+            profile = with_planner(profile, turn_gain=turn_gain, source=genome_path)
         return cls(genome, profile, source=str(genome_path))
 
     def decide(
@@ -201,7 +219,7 @@ class GenomePlanner:
             self._context,
         )
         memory = self._memory.copy()  # kept as it was if the decision fails
-        outputs = self.network.activate(inputs, memory)
+        outputs = turn_gain(self.network.activate(inputs, memory), self.profile)
         outputs, aligned = rotation_shim(outputs, inputs, self._aligned, self.profile)
         dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
         if self.guard is not None:  # as the batched episodes vet it (sim/episode.py)

@@ -41,6 +41,7 @@ from mentor_core.sim.engine import BatchEngine
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.rotation_shim import rotation_shim
 from mentor_core.sim.sensors import Backend
+from mentor_core.sim.turn_gain import turn_gain
 from mentor_core.sim.world import Scenario, World
 
 FloatArray = NDArray[np.float64]
@@ -315,7 +316,7 @@ def _run_world(
         past = context[idx] if profile.n_context else None  # the paper's planner: no context
         inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile, past)
         outputs = np.asarray(policy(inputs, idx), dtype=np.float64)
-        outputs = outputs.reshape(idx.size, profile.n_outputs)
+        outputs = turn_gain(outputs.reshape(idx.size, profile.n_outputs), profile)
         if profile.rotation_shim is not None:
             outputs, aligned[idx] = rotation_shim(outputs, inputs, aligned[idx], profile)
         dth, ds = observation.actions_from_outputs(outputs, profile, seen)

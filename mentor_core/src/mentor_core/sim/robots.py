@@ -114,6 +114,9 @@ class RobotProfile:
             read lately, and backs the robot up when every arc ahead would hit
             (:mod:`mentor_core.sim.collision_guard`); False in the paper. A deployment option,
             never trained with.
+        turn_gain: the network's turn output is scaled by this gain about its middle, in
+            ``(0, 1]`` (:mod:`mentor_core.sim.turn_gain`); 1 in the paper. A deployment
+            option, never trained with.
     """
 
     name: str
@@ -141,6 +144,7 @@ class RobotProfile:
     memory_units: int = 0
     rotation_shim: float | None = None
     collision_guard: bool = False
+    turn_gain: float = 1.0
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:
@@ -282,6 +286,7 @@ def with_planner(
     rotation_shim: object = None,
     control_period: object = None,
     collision_guard: object = None,
+    turn_gain: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
@@ -291,9 +296,9 @@ def with_planner(
     (a bool), its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
     :func:`mentor_core.sim.observation.next_context`) and its rotation shim's threshold (rad,
     in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`), its control period (s, in
-    ``(0, profile.control_period]``) and whether a collision guard vets its decisions (a
-    bool; :mod:`mentor_core.sim.collision_guard`) replaced where given (None keeps the
-    profile's).
+    ``(0, profile.control_period]``), whether a collision guard vets its decisions (a
+    bool; :mod:`mentor_core.sim.collision_guard`) and the gain on its turn (in ``(0, 1]``;
+    :mod:`mentor_core.sim.turn_gain`) replaced where given (None keeps the profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
@@ -368,6 +373,10 @@ def with_planner(
             raise ConfigError(f"must be true or false, got {collision_guard!r}",
                               key="collision_guard", path=where)  # fmt: skip
         changes["collision_guard"] = collision_guard
+    if turn_gain is not None:
+        changes["turn_gain"] = _planner_number(
+            turn_gain, lambda v: 0.0 < v <= 1.0, "(0, 1]", "turn_gain", where
+        )
     return dataclasses.replace(profile, **changes)
 
 
