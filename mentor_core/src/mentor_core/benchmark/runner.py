@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mentor_core.benchmark.contenders import Contender
-from mentor_core.benchmark.scores import Outcomes, outcomes, score_table
+from mentor_core.benchmark.scores import Outcomes, outcomes, score_table, under_limit
 from mentor_core.benchmark.suite import PAPER_LIMIT, Suite
 from mentor_core.sim.episode import run_episodes
 
@@ -61,10 +61,12 @@ def run_contender(
                              time_budgets=budgets[idx],
                              input_goals=contender.input_goals(scenarios))  # fmt: skip
         parts.append(outcomes(batch, contender.profile))
-        if progress is not None:
-            done = int(np.count_nonzero(batch.reached))
-            progress(f"{contender.name}: {family:<14} {done:>3}/{len(idx)} reached "
-                     f"({time.perf_counter() - t0:.1f} s)")  # fmt: skip
+        if progress is not None:  # counted as the table counts them: within the paper's limit
+            ok, _ = under_limit(parts[-1], limits["paper"][idx], contender.profile.control_period)
+            done, late = int(np.count_nonzero(ok)), int(np.count_nonzero(batch.reached) - ok.sum())
+            later = f", {late} more later" if late else ""
+            progress(f"{contender.name}: {family:<14} {done:>3}/{len(idx)} reached within "
+                     f"{PAPER_LIMIT:.0f} s{later} ({time.perf_counter() - t0:.1f} s)")  # fmt: skip
     merged = _concatenate(parts)
     shortest = np.array([p.shortest for p in suite.pairs], dtype=np.float64)
     scores = score_table(merged, families, shortest, limits, contender.profile.control_period)
