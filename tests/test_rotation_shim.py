@@ -88,9 +88,13 @@ def test_a_robot_facing_away_turns_on_the_spot_first_and_drives_shorter() -> Non
     assert with_shim.reached[0] and not without.reached[0]  # it never turns round
 
 
-def test_the_planner_on_the_robot_shims_as_the_engine_did() -> None:
+@pytest.mark.parametrize("gain", [1.0, 0.6])
+def test_the_planner_on_the_robot_shims_as_the_engine_did(gain: float) -> None:
+    """Bit for bit, also with a gain on the network's turn in front of the shim
+    (``sim.turn_gain``, a deployment option)."""
     config = TrainerConfig.from_dict({"robot": "swarm", "n_scenarios": 6, "rotation_shim_deg": 30})
     problem = make_problem(config)
+    problem.profile = with_planner(problem.profile, turn_gain=gain)
     assert problem.profile.rotation_shim == pytest.approx(math.radians(30))
     rng = np.random.default_rng(2)
     n_in = problem.n_inputs
