@@ -53,6 +53,15 @@ def test_bench_writes_the_table_json_and_markdown(
                 assert overall["success"] <= sum(per_pair) / 4
     md = (bench_dir / "bench.md").read_text()
     assert "| slalom |" in md and "| **overall** |" in md
+    # the evolved planner head to head with the best of vfh and bug in each family
+    ref, vfh, bug = doc["contenders"][:3]
+    for family in ("slalom", "traps"):
+        best = max(vfh["scores"]["paper"][family]["success"],
+                   bug["scores"]["paper"][family]["success"])
+        mine = ref["scores"]["paper"][family]["success"]
+        assert f"| {family} | {100 * mine:.1f} % / " in md
+        assert f"| {100 * best:.1f} % (" in md
+    assert "`ref` leads or ties the best baseline on success in" in md
     for png in ("bench_success.png", "bench_success_scaled.png", "bench_trajectories.png"):
         assert (bench_dir / png).stat().st_size > 1000
         assert f"({png})" in md
@@ -167,7 +176,9 @@ def test_seeds_of_a_planner_are_summarised_beside_the_baselines(
     assert "| **overall** | 50 ± 50 % / 0.25 ± 0.25 |" in md
 
 
-def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -> None:
+def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     out = tmp_path / "mapped"
     code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
                        "rooms", "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
@@ -178,6 +189,10 @@ def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(tmp_path: Path) -
     names = [c["name"] for c in doc["contenders"]]
     assert names == ["ref-s1", "vfh", "mapped-ref-s1", "mapped-vfh"]
     assert [c["kind"] for c in doc["contenders"]] == ["evolved", "baseline"] * 2
+    # printed too: each evolved planner against the best of vfh and mapped-vfh
+    printed = capsys.readouterr().out
+    assert "head to head with the best baseline, ugv, validation split, limit 50 s" in printed
+    assert "`ref-s1` leads or ties" in printed and "`mapped-ref-s1` leads or ties" in printed
     plain, mapped = doc["contenders"][0], doc["contenders"][2]
     # the same planner, steered elsewhere: its trajectories differ
     assert any(a["trajectory"] != b["trajectory"]

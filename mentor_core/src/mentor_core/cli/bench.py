@@ -8,7 +8,8 @@
 Runs each genome (with the planner settings of its metadata, as mentor-eval), the baselines
 (``vfh``, ``bug``) and the oracle on the seeded world families of a split (validation by
 default; the test split is for reporting only), prints success / SPL per family under the
-paper's 50 s and under a limit scaled to each pair's shortest path, and with ``--out`` writes
+paper's 50 s and under a limit scaled to each pair's shortest path, then each evolved planner
+head to head with the best baseline per family (``report.head_to_head``), and with ``--out`` writes
 ``bench.json`` (format ``mentor-bench``), ``bench.md`` and its figures there; ``mentor-report
 --bench bench.json`` includes them in a report.
 """
@@ -47,6 +48,7 @@ from mentor_core.benchmark.suite import (
 from mentor_core.cli.arguments import check_deployed, rotation_shim_threshold, turn_gain_value
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
+from mentor_core.report.head_to_head import head_to_head_markdown
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, get_profile
 
@@ -229,9 +231,14 @@ def main(argv: list[str] | None = None) -> int:
             print(f"success / SPL, {args.robot}, {args.split} split, limit {title}")
             print(table(results, suite.families, limit))
             print()
+        doc = bench_document(suite, results, args.pairs_per_family)
+        versus = head_to_head_markdown(doc, "paper")
+        if versus:
+            print(f"head to head with the best baseline, {args.robot}, {args.split} split, "
+                  "limit 50 s")
+            print("\n".join(versus))
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)
-            doc = bench_document(suite, results, args.pairs_per_family)
             md = bench_markdown(doc, args.out, heading="#")
             write_text_atomic(args.out / "bench.md", "\n".join(md))
             write_json_atomic(args.out / "bench.json", doc)

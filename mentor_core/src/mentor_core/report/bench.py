@@ -7,17 +7,15 @@
   wins in each family shows at a glance;
 * :func:`example_trajectories` -- one pair per family, every planner's trajectory on it,
   each ending in a dot (reached), a cross (collided) or a circle (timed out);
-* :func:`seed_groups` -- evolved planners labelled ``<name>-s<seed>`` grouped by name, for
-  the tables of their mean and spread over seeds;
 * :func:`bench_markdown` -- both figures and the tables (success and SPL per family under
-  each time limit, per planner and, where a name has several seeds, its mean +- sd beside
-  the baselines; every score overall) as Markdown lines.
+  each time limit, per planner and, where a name has several seeds (``report.seed_groups``),
+  its mean +- sd beside the baselines; each evolved planner head to head with the best
+  baseline per family (``report.head_to_head``); every score overall) as Markdown lines.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -28,13 +26,14 @@ from matplotlib.patches import Circle, Rectangle
 
 from mentor_core.atomic import write_bytes_atomic
 from mentor_core.report.figures import _figure, _png
+from mentor_core.report.head_to_head import head_to_head_markdown
+from mentor_core.report.seed_groups import seed_groups
 from mentor_core.report.tables import _fmt, _md_table, _pct
 
 _PALETTES = {"evolved": ("tab:blue", "tab:cyan", "tab:purple", "navy", "steelblue"),
              "baseline": ("tab:orange", "tab:green", "tab:brown", "gold"),
              "oracle": ("0.45", "0.2")}  # fmt: skip
 _ENDS = {"reached": "o", "collided": "x", "timed out": "$\\circ$"}
-_SEEDED = re.compile(r"^(?P<name>.+)-s(?P<seed>\d+)$")
 LIMIT_TITLES = {"paper": "the paper's 50 s", "scaled": "the limit scaled to the shortest path"}
 
 
@@ -126,17 +125,6 @@ def _none_nan(x: Any) -> float:
     return math.nan if x is None else float(x)
 
 
-def seed_groups(contenders: Sequence[Mapping[str, Any]]) -> dict[str, list[int]]:
-    """Indices of the evolved contenders named ``<name>-s<seed>``, by name, for names with
-    at least two seeds (in first-seen order)."""
-    groups: dict[str, list[int]] = {}
-    for i, c in enumerate(contenders):
-        match = _SEEDED.match(str(c["name"]))
-        if c["kind"] == "evolved" and match:
-            groups.setdefault(match["name"], []).append(i)
-    return {name: idx for name, idx in groups.items() if len(idx) > 1}
-
-
 def _spread(values: Sequence[float], percent: bool) -> str:
     """``mean +- sd`` (sample sd, ``ddof=1``) of the finite values."""
     v = np.asarray([x for x in values if math.isfinite(x)], dtype=np.float64)
@@ -206,6 +194,11 @@ def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "b
             md += [f"Planners over their seeds (`<name>-s<seed>`; mean ± sample sd of the "
                    f"seeds' rates), within {LIMIT_TITLES[limit]}:", ""]
             md += _seed_table(doc, limit)
+    versus = head_to_head_markdown(doc, "paper")
+    if versus:
+        md += [f"Head to head, within {LIMIT_TITLES['paper']}: each evolved planner against "
+               "the best baseline variant in each family, on success and on SPL separately "
+               "(the oracle is not a baseline):", "", *versus]
     md += [f"![success per family]({prefix}_success.png)", "",
            f"![success per family, scaled limit]({prefix}_success_scaled.png)", ""]
     rows = []

@@ -1,0 +1,146 @@
+"""Head to head: each evolved planner against the best baseline, family by family.
+
+Issue 15 asks that a user see at a glance whether the evolved planner beats the classic one in
+each family. For each evolved planner of a ``mentor-bench`` document (over its seeds, their
+mean, where it is labelled ``<name>-s<seed>``) and each family, this finds the best baseline
+on success and, separately, the best on SPL (Anderson et al. 2018), among every baseline
+variant the document holds (plain, guarded, on a scan map, at the shipped limits; the oracle
+is not a baseline), and the margins. Picking the best variant per family and column is a
+higher bar than any one baseline; it is the bar the headline tables of
+``benchmarks/RESULTS.md`` use.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mentor_core.report.seed_groups import seed_groups
+
+#: margins closer to 0 than this are ties: a mean of seeds' rates k/n carries rounding error
+TIE = 1e-9
+
+
+@dataclass(frozen=True)
+class FamilyMatch:
+    """One evolved planner against the best baselines in one family (or ``overall``).
+
+    Rates are fractions in [0, 1], SPL in [0, 1]; an evolved planner's are the mean over its
+    seeds. ``best_success_by`` and ``best_spl_by`` name the baselines that set each bar (the
+    first in the document's order where several tie)."""
+
+    family: str
+    success: float
+    spl: float
+    best_success: float
+    best_success_by: str
+    best_spl: float
+    best_spl_by: str
+
+    @property
+    def success_margin(self) -> float:
+        """The planner's success less the best baseline's (fraction; > 0: it leads)."""
+        return self.success - self.best_success
+
+    @property
+    def spl_margin(self) -> float:
+        """The planner's SPL less the best baseline's (> 0: it leads)."""
+        return self.spl - self.best_spl
+
+    @property
+    def level_on_success(self) -> bool:
+        """Success at least the best baseline's (leads or ties)."""
+        return self.success_margin > -TIE
+
+    @property
+    def level_on_spl(self) -> bool:
+        """SPL at least the best baseline's (leads or ties)."""
+        return self.spl_margin > -TIE
+
+    @property
+    def beats(self) -> bool:
+        """Above the best baseline on both success and SPL."""
+        return self.success_margin > TIE and self.spl_margin > TIE
+
+
+def _score(contender: Mapping[str, Any], limit: str, family: str, key: str) -> float:
+    value = contender["scores"][limit][family][key]
+    return math.nan if value is None else float(value)
+
+
+def _best(baselines: list[Mapping[str, Any]], limit: str, family: str,
+          key: str) -> tuple[float, str]:
+    values = [_score(b, limit, family, key) for b in baselines]
+    finite = [i for i, v in enumerate(values) if math.isfinite(v)]
+    if not finite:
+        return math.nan, "-"
+    i = max(finite, key=lambda j: values[j])  # max keeps the first of equal values
+    return values[i], str(baselines[i]["name"])
+
+
+def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list[FamilyMatch]]:
+    """Each evolved planner of a ``mentor-bench`` document (``benchmark.document``) against
+    the best baseline per family and ``overall``, under ``limit`` (``paper``: 50 s, or
+    ``scaled``). Keys: the seed group's name (``<name>`` of ``<name>-s<seed>``, several
+    seeds) or the contender's name. Empty when the document holds no baseline."""
+    contenders = doc["contenders"]
+    baselines = [c for c in contenders if c["kind"] == "baseline"]
+    if not baselines:
+        return {}
+    groups = seed_groups(contenders)
+    grouped = {i for idx in groups.values() for i in idx}
+    planners = dict(groups) | {str(c["name"]): [i] for i, c in enumerate(contenders)
+                               if c["kind"] == "evolved" and i not in grouped}
+    out: dict[str, list[FamilyMatch]] = {}
+    for name, idx in planners.items():
+        rows = []
+        for family in [*doc["families"], "overall"]:
+            mean = {key: float(np.nanmean([_score(contenders[i], limit, family, key)
+                                           for i in idx]))
+                    for key in ("success", "spl")}  # fmt: skip
+            best_success, success_by = _best(baselines, limit, family, "success")
+            best_spl, spl_by = _best(baselines, limit, family, "spl")
+            rows.append(FamilyMatch(family, mean["success"], mean["spl"], best_success,
+                                    success_by, best_spl, spl_by))
+        out[name] = rows
+    return out
+
+
+def _margin(value: float, scale: float, digits: int) -> str:
+    if not math.isfinite(value):
+        return "-"
+    word = "leads" if value > TIE else "trails" if value < -TIE else "ties"
+    value = 0.0 if word == "ties" else value
+    return f"{scale * value:+.{digits}f} {word}"
+
+
+def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[str]:
+    """Markdown lines: a table per evolved planner of :func:`head_to_head`, each followed by
+    a line counting the families where it leads or ties on success, on SPL, and beats on
+    both. No lines when the document has no evolved planner or no baseline."""
+    md: list[str] = []
+    for name, rows in head_to_head(doc, limit).items():
+        seeds = len(seed_groups(doc["contenders"]).get(name, [0]))
+        who = f"`{name}`" + (f" (mean of {seeds} seeds)" if seeds > 1 else "")
+        md += [f"| family | {who}: success / SPL | best baseline: success | "
+               "best baseline: SPL | success (points) | SPL |",
+               "|---|---|---|---|---|---|"]
+        for r in rows:
+            label = f"**{r.family}**" if r.family == "overall" else r.family
+            md.append(f"| {label} | {100 * r.success:.1f} % / {r.spl:.2f} | "
+                      f"{100 * r.best_success:.1f} % ({r.best_success_by}) | "
+                      f"{r.best_spl:.2f} ({r.best_spl_by}) | "
+                      f"{_margin(r.success_margin, 100.0, 1)} | "
+                      f"{_margin(r.spl_margin, 1.0, 3)} |")
+        families = [r for r in rows if r.family != "overall"]
+        n = len(families)
+        on_success = sum(r.level_on_success for r in families)
+        on_spl = sum(r.level_on_spl for r in families)
+        md += ["", f"{who} leads or ties the best baseline on success in {on_success} of {n} "
+               f"families, on SPL in {on_spl} of {n}, and beats it on both in "
+               f"{sum(r.beats for r in families)} of {n}.", ""]
+    return md

@@ -1,0 +1,92 @@
+"""Head to head (report/head_to_head.py): each evolved planner against the best baseline
+variant per family, as issue 15 asks a user to see at a glance."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from mentor_core.report.head_to_head import head_to_head, head_to_head_markdown
+
+
+def _contender(name: str, kind: str, scores: dict[str, tuple[float, float]]) -> dict[str, Any]:
+    per = {f: {"success": s, "spl": p} for f, (s, p) in scores.items()}
+    return {"name": name, "kind": kind, "scores": {"paper": per, "scaled": per}}
+
+
+def _doc() -> dict[str, Any]:
+    return {
+        "families": ["rooms", "forest"],
+        "contenders": [
+            _contender("dual-s1", "evolved", {"rooms": (0.9, 0.6), "forest": (1.0, 0.7),
+                                              "overall": (0.95, 0.65)}),
+            _contender("dual-s2", "evolved", {"rooms": (0.8, 0.7), "forest": (0.9, 0.9),
+                                              "overall": (0.85, 0.8)}),
+            _contender("lone", "evolved", {"rooms": (0.5, 0.4), "forest": (0.5, 0.4),
+                                           "overall": (0.5, 0.4)}),
+            _contender("vfh", "baseline", {"rooms": (0.7, 0.65), "forest": (1.0, 0.95),
+                                           "overall": (0.85, 0.8)}),
+            _contender("mapped-bug", "baseline", {"rooms": (0.85, 0.5), "forest": (0.95, 0.8),
+                                                  "overall": (0.9, 0.65)}),
+            # the oracle sets no bar: it knows the map
+            _contender("oracle", "oracle", {"rooms": (1.0, 0.99), "forest": (1.0, 0.99),
+                                            "overall": (1.0, 0.99)}),
+        ],
+    }
+
+
+def test_each_family_is_met_by_the_best_baseline_on_each_score() -> None:
+    versus = head_to_head(_doc())
+    assert list(versus) == ["dual", "lone"]  # seeds pooled; a lone planner on its own
+    rooms, forest, overall = versus["dual"]
+    assert (rooms.family, forest.family, overall.family) == ("rooms", "forest", "overall")
+    # the seeds' mean: success 0.85, SPL 0.65 in the rooms
+    assert (rooms.success, rooms.spl) == pytest.approx((0.85, 0.65))
+    # best success and best SPL come from different baselines
+    assert (rooms.best_success, rooms.best_success_by) == (0.85, "mapped-bug")
+    assert (rooms.best_spl, rooms.best_spl_by) == (0.65, "vfh")
+    assert rooms.success_margin == pytest.approx(0.0) and rooms.spl_margin == pytest.approx(0.0)
+    assert rooms.level_on_success and rooms.level_on_spl and not rooms.beats
+    # forest: 0.95 against vfh's 1.0; SPL 0.8 against 0.95
+    assert forest.best_success_by == "vfh" and forest.success_margin == pytest.approx(-0.05)
+    assert not forest.level_on_success and not forest.level_on_spl
+    # overall: success 0.9 ties mapped-bug's; SPL 0.725 trails vfh's 0.8
+    assert overall.level_on_success and overall.best_success_by == "mapped-bug"
+    assert overall.spl_margin == pytest.approx(0.725 - 0.8)
+    lone = versus["lone"][0]
+    assert lone.success == 0.5 and lone.success_margin == pytest.approx(-0.35)
+
+
+def test_a_planner_above_both_bars_beats_the_baseline() -> None:
+    doc = _doc()
+    doc["contenders"][0]["scores"]["paper"]["forest"] = {"success": 1.0, "spl": 1.0}
+    doc["contenders"][1]["scores"]["paper"]["forest"] = {"success": 1.0, "spl": 1.0}
+    forest = head_to_head(doc)["dual"][1]
+    # ties on success (1.0 against vfh's 1.0) is not a win: beats needs both strictly above
+    assert forest.level_on_success and not forest.beats
+    doc["contenders"][3]["scores"]["paper"]["forest"] = {"success": 0.9, "spl": 0.95}
+    assert head_to_head(doc)["dual"][1].beats
+
+
+def test_the_markdown_names_the_bars_and_counts_the_families() -> None:
+    md = "\n".join(head_to_head_markdown(_doc()))
+    assert ("| rooms | 85.0 % / 0.65 | 85.0 % (mapped-bug) | 0.65 (vfh) | +0.0 ties | "
+            "+0.000 ties |") in md
+    assert "| forest | 95.0 % / 0.80 | 100.0 % (vfh) | 0.95 (vfh) | -5.0 trails |" in md
+    assert ("`dual` (mean of 2 seeds) leads or ties the best baseline on success in 1 of 2 "
+            "families, on SPL in 1 of 2, and beats it on both in 0 of 2.") in md
+    assert "`lone` leads or ties the best baseline on success in 0 of 2" in md
+
+
+def test_no_baseline_no_head_to_head() -> None:
+    doc = _doc()
+    doc["contenders"] = [c for c in doc["contenders"] if c["kind"] != "baseline"]
+    assert head_to_head(doc) == {} and head_to_head_markdown(doc) == []
+
+
+def test_a_missing_score_is_skipped_not_counted_as_a_best() -> None:
+    doc = _doc()
+    doc["contenders"][3]["scores"]["paper"]["rooms"] = {"success": None, "spl": None}
+    rooms = head_to_head(doc)["dual"][0]
+    assert rooms.best_success_by == rooms.best_spl_by == "mapped-bug"
