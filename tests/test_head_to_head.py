@@ -90,3 +90,13 @@ def test_a_missing_score_is_skipped_not_counted_as_a_best() -> None:
     doc["contenders"][3]["scores"]["paper"]["rooms"] = {"success": None, "spl": None}
     rooms = head_to_head(doc)["dual"][0]
     assert rooms.best_success_by == rooms.best_spl_by == "mapped-bug"
+
+
+def test_a_family_without_scores_shows_a_dash() -> None:
+    doc = _doc()
+    for i in (0, 1):  # neither seed scored in the rooms
+        doc["contenders"][i]["scores"]["paper"]["rooms"] = {"success": None, "spl": None}
+    rooms = head_to_head(doc)["dual"][0]
+    assert not rooms.level_on_success and not rooms.beats
+    assert "| rooms | - / - | 85.0 % (mapped-bug) | 0.65 (vfh) | - | - |" in "\n".join(
+        head_to_head_markdown(doc))

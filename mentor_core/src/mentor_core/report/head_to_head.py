@@ -72,6 +72,12 @@ def _score(contender: Mapping[str, Any], limit: str, family: str, key: str) -> f
     return math.nan if value is None else float(value)
 
 
+def _mean(values: list[float]) -> float:
+    """The mean of the finite values (NaN where none is)."""
+    finite = [v for v in values if math.isfinite(v)]
+    return float(np.mean(finite)) if finite else math.nan
+
+
 def _best(baselines: list[Mapping[str, Any]], limit: str, family: str,
           key: str) -> tuple[float, str]:
     values = [_score(b, limit, family, key) for b in baselines]
@@ -99,8 +105,7 @@ def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list
     for name, idx in planners.items():
         rows = []
         for family in [*doc["families"], "overall"]:
-            mean = {key: float(np.nanmean([_score(contenders[i], limit, family, key)
-                                           for i in idx]))
+            mean = {key: _mean([_score(contenders[i], limit, family, key) for i in idx])
                     for key in ("success", "spl")}  # fmt: skip
             best_success, success_by = _best(baselines, limit, family, "success")
             best_spl, spl_by = _best(baselines, limit, family, "spl")
@@ -108,6 +113,12 @@ def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list
                                     success_by, best_spl, spl_by))
         out[name] = rows
     return out
+
+
+def _value(x: float, percent: bool) -> str:
+    if not math.isfinite(x):
+        return "-"
+    return f"{100 * x:.1f} %" if percent else f"{x:.2f}"
 
 
 def _margin(value: float, scale: float, digits: int) -> str:
@@ -131,9 +142,9 @@ def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[
                "|---|---|---|---|---|---|"]
         for r in rows:
             label = f"**{r.family}**" if r.family == "overall" else r.family
-            md.append(f"| {label} | {100 * r.success:.1f} % / {r.spl:.2f} | "
-                      f"{100 * r.best_success:.1f} % ({r.best_success_by}) | "
-                      f"{r.best_spl:.2f} ({r.best_spl_by}) | "
+            md.append(f"| {label} | {_value(r.success, True)} / {_value(r.spl, False)} | "
+                      f"{_value(r.best_success, True)} ({r.best_success_by}) | "
+                      f"{_value(r.best_spl, False)} ({r.best_spl_by}) | "
                       f"{_margin(r.success_margin, 100.0, 1)} | "
                       f"{_margin(r.spl_margin, 1.0, 3)} |")
         families = [r for r in rows if r.family != "overall"]
