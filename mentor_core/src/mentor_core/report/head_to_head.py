@@ -134,9 +134,10 @@ def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[
     a line counting the families where it leads or ties on success, on SPL, and beats on
     both. No lines when the document has no evolved planner or no baseline."""
     md: list[str] = []
+    groups = seed_groups(doc["contenders"])
     for name, rows in head_to_head(doc, limit).items():
-        seeds = len(seed_groups(doc["contenders"]).get(name, [0]))
-        who = f"`{name}`" + (f" (mean of {seeds} seeds)" if seeds > 1 else "")
+        seeds = len(groups.get(name, ()))
+        who = f"`{name}`" + (f" (mean of {seeds} seeds)" if seeds else "")
         md += [f"| family | {who}: success / SPL | best baseline: success | "
                "best baseline: SPL | success (points) | SPL |",
                "|---|---|---|---|---|---|"]
