@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PoseStamped, Twist
 from ros_support import REGRESSION, ROOT, Graph, params, workspace_env
 from tf_support import tf_tree
 
@@ -243,23 +243,40 @@ def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
     assert stamps["robot_0/base_link"] == [o.stamp_ns for o in robot.odometry]  # each one
 
 
-def test_a_continuous_simulator_and_a_planner_on_its_own_timer(graph: Graph) -> None:
+@pytest.mark.parametrize("repeat_rate", [10.0, 0.0])
+def test_a_continuous_simulator_and_a_planner_on_its_own_timer(
+    graph: Graph, repeat_rate: float
+) -> None:
     """The simulator runs like Gazebo (physics every 0.05 s, scans at 10 Hz, each cmd_vel held
-    until replaced); the planner decides once per control period of sim time with the latest
-    scan and odometry. Its decisions drive the robot to an end of the episode."""
+    until replaced or 0.5 s old); the planner decides once per control period (1 s) of sim
+    time with the latest scan and odometry, and sends its cmd_vel again at ``repeat_rate``
+    between decisions. Its decisions drive the robot to an end of the episode; with the
+    repeats no command outlives the simulator's timeout, without them each one does."""
     robot = "swarm"
     sim = graph.add(SimNode(context=graph.context, parameter_overrides=params(
         robots=["robot_0"], profiles=[robot], episodes=1, continuous=True,
-        real_time_factor=10.0, time_limit=8.0,
+        real_time_factor=10.0, time_limit=8.0, command_timeout=0.5,
     )))
     planner = graph.add(PlannerNode(
         context=graph.context, namespace="/robot_0",
         parameter_overrides=params(genome=str(_genome(robot)), profile=robot,
-                                   use_sim_time=True, decide_on_timer=True),
+                                   use_sim_time=True, decide_on_timer=True,
+                                   repeat_rate=repeat_rate),
     ))
+    heard: list[int] = []  # sim time (ns) of each cmd_vel the simulator gets
+    probe = graph.probe()
+    probe.create_subscription(Twist, "/robot_0/cmd_vel",
+                              lambda _: heard.append(sim.sim_time_ns), 10)
     assert graph.spin_until(lambda: sim.finished, timeout=20.0)
     (outcome,) = sim.outcomes
     start = training_scenarios(get_profile(robot), 0, n=1)[0].start
     assert math.dist(outcome.pose[:2], start[:2]) > 0.05  # it drove
     assert 3 <= planner.decisions <= 9  # about one per second of sim time, not one per scan
     assert outcome.steps == round(outcome.time_used / 0.05)  # physics steps
+    gaps = np.diff(heard) / 1e9  # s of sim time between commands
+    if repeat_rate:
+        assert planner.repeats >= 5 * planner.decisions
+        assert gaps.max() <= 0.5  # never quiet for the command timeout
+    else:
+        assert planner.repeats == 0
+        assert np.median(gaps) > 0.5  # one a decision: the robot stood for half of each

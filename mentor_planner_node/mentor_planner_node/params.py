@@ -26,6 +26,8 @@ from mentor_core import (
 #: periods without an answer before the watchdog fires, when ``stale_timeout`` is 0
 STALE_PERIODS = 3.0
 SCAN_KINDS = ("auto", "sensors", "lidar")
+#: Hz at which a planner deciding on its timer repeats its cmd_vel (bases time out at 0.5 s)
+REPEAT_RATE = 10.0
 
 
 class PlannerSetupError(MentorError):
@@ -53,6 +55,7 @@ class PlannerParameters:
     rotation_shim_deg: float = 0.0
     collision_guard: bool = False
     turn_gain: float = 1.0
+    repeat_rate: float = 0.0
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
@@ -97,6 +100,13 @@ def _declarations() -> list[tuple[str, Any, Any]]:
             False,
             _descriptor("decide every control period with the latest data (continuous mode) "
                         "instead of answering each new observation (lockstep)"),
+        ),
+        (
+            "repeat_rate",
+            REPEAT_RATE,
+            _descriptor("Hz: with decide_on_timer, send the latest cmd_vel again at this rate "
+                        "between decisions, for a base that stops when cmd_vel goes quiet "
+                        "(the simulator's command_timeout; 0: only at decisions)", low=0.0),
         ),
         ("scan_kind", "auto", _descriptor("auto | sensors (the simulator's) | lidar (any)")),
         ("ray_width", 0.0, _descriptor("rad, field of view of a single-ray sensor", low=0.0)),
@@ -163,6 +173,9 @@ def check_parameters(
     gain = float(values["turn_gain"])
     if not 0.0 < gain <= 1.0:
         raise PlannerSetupError(f"turn_gain: {gain} is not in (0, 1]")
+    repeat = float(values["repeat_rate"])
+    if not (repeat >= 0.0 and repeat < float("inf")):
+        raise PlannerSetupError(f"repeat_rate: {repeat} is not a rate >= 0 Hz")
     kind = str(values["scan_kind"])
     if kind not in SCAN_KINDS:
         raise PlannerSetupError(f"scan_kind: {kind!r} is not one of {', '.join(SCAN_KINDS)}")
@@ -184,6 +197,7 @@ def check_parameters(
         rotation_shim_deg=shim,
         collision_guard=bool(values["collision_guard"]),
         turn_gain=gain,
+        repeat_rate=repeat,
     )
 
 

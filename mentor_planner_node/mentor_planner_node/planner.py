@@ -10,7 +10,9 @@ odometry frame (:class:`mentor_core.PlannerFrames`), and one outside the arena i
 
 It answers every new observation (a scan and an odometry with the same stamp) with one
 ``cmd_vel`` (lockstep), or decides every control period with the latest one
-(``decide_on_timer``, for a simulator or robot that runs continuously). The decision is
+(``decide_on_timer``, for a simulator or robot that runs continuously), sending its latest
+``cmd_vel`` again at ``repeat_rate`` in between, as bases that stop on a quiet ``cmd_vel``
+need. The decision is
 :class:`mentor_core.GenomePlanner`, the trainer's own input and output functions; when to
 decide, when the goal is reached and when data is stale is :class:`mentor_core.DecisionGate`;
 a planner with a memory is reset at the first observation of each new goal or episode.
@@ -132,6 +134,9 @@ class PlannerNode(Node):
         self.global_plan = global_plan.attach(self, self.planner, self.frames, self._answer)
         self.decisions = 0
         self.zero_commands = 0
+        #: cmd_vel sent again between decisions (``repeat_rate``)
+        self.repeats = 0
+        self._last_cmd: Twist | None = None  # what a repeat sends; None: nothing
         self.goals_reached = 0
 
         self._cmd_pub = self.create_publisher(Twist, "cmd_vel", QOS_COMMAND)
@@ -153,6 +158,12 @@ class PlannerNode(Node):
                                            clock=self._steady)
         self._decide_timer = (
             self.create_timer(self.control_period, self._answer) if p.decide_on_timer else None
+        )
+        # a base stops a robot whose cmd_vel goes quiet for its timeout (diff_drive_controller's
+        # cmd_vel_timeout, the simulator's command_timeout: 0.5 s), shorter than a period
+        repeating = p.decide_on_timer and p.repeat_rate > 0.0
+        self._repeat_timer = (
+            self.create_timer(1.0 / p.repeat_rate, self._repeat) if repeating else None
         )
         self.add_on_set_parameters_callback(self._on_parameters)
         if self.planner is None:
@@ -275,6 +286,7 @@ class PlannerNode(Node):
         if goal is not None:  # the simulator's goals are in map
             goal = self._goal_in_odom(self.frames.map_frame, goal)
         self.gate.on_event(kind, self._steady_ns(), goal)
+        self._last_cmd = None  # an episode began or ended: the last command is not its own
         self._answer()
 
     def _on_arena(self, msg: MarkerArray) -> None:
@@ -303,7 +315,7 @@ class PlannerNode(Node):
         if self.gate.arrived(obs.pose, self.goal_radius):
             self.goals_reached += 1
             self.get_logger().info("goal reached: stopping")
-            self._cmd_pub.publish(Twist())
+            self._send(Twist())
             return
         if self.planner is None:
             self._send_zero("no genome loaded")
@@ -321,7 +333,7 @@ class PlannerNode(Node):
         except (ValueError, LookupError) as err:  # LookupError: map -> odom for a global plan
             self._send_zero(f"no decision ({err})")
             return
-        self._cmd_pub.publish(twist)
+        self._send(twist)
         self.decisions += 1
 
     def _on_watchdog(self) -> None:
@@ -331,8 +343,17 @@ class PlannerNode(Node):
         if reason is not None:
             self._send_zero(reason)
 
+    def _send(self, twist: Twist) -> None:
+        self._cmd_pub.publish(twist)
+        self._last_cmd = twist
+
+    def _repeat(self) -> None:
+        if self._last_cmd is not None:
+            self._cmd_pub.publish(self._last_cmd)
+            self.repeats += 1
+
     def _send_zero(self, reason: str) -> None:
-        self._cmd_pub.publish(Twist())
+        self._send(Twist())
         self.zero_commands += 1
         self._warn(f"{reason}: sending a zero Twist")
 
