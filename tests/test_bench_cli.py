@@ -103,6 +103,7 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
         (["--robot", "ugv", "--lookahead", "1"], "--lookahead: only with --scan-map"),
         (["--robot", "ugv", "--scan-map", "--lookahead", "-1"], "--lookahead must be positive"),
         (["--robot", "ugv", "--deployed", "--collision-guard"], "--deployed: give none of"),
+        (["--robot", "ugv", "--workers", "0"], "--workers must be >= 1"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
@@ -111,6 +112,29 @@ def test_bad_input_is_one_line_and_exit_2(
     assert bench_main(args) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1
+
+
+def _without_seconds(doc: Any) -> Any:
+    if isinstance(doc, dict):
+        return {k: _without_seconds(v) for k, v in doc.items() if k != "seconds"}
+    if isinstance(doc, list):
+        return [_without_seconds(v) for v in doc]
+    return doc
+
+
+def test_workers_give_the_same_results_as_one_process(
+    bench_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    capsys.readouterr()
+    out = tmp_path / "two"
+    assert bench_main([str(UGV_GENOME), "--label", "ref", "--robot", "ugv", "--families",
+                       "slalom,traps", "--pairs-per-family", "2", "--baseline-limits",
+                       "reference", "--workers", "2", "--out", str(out)]) == 0  # fmt: skip
+    assert "on 2 worker processes" in capsys.readouterr().err
+    one = json.loads((bench_dir / "bench.json").read_text())
+    two = json.loads((out / "bench.json").read_text())
+    assert _without_seconds(two) == _without_seconds(one)  # trajectories included
+    assert (out / "bench.md").read_text() == (bench_dir / "bench.md").read_text()
 
 
 def test_out_must_not_be_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -161,6 +161,31 @@ def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(
     assert env["ROS_DOMAIN_ID"] == os.environ["ROS_DOMAIN_ID"]
 
 
+def test_the_demo_runs_the_shipped_planners_of_both_robots_together_in_continuous_mode(
+) -> None:
+    """The shipped UGV planners decide every 0.5 s, the Swarm-Robot's every 1 s: lockstep
+    refuses them together (one line naming the way out), the continuous mode runs them."""
+    exe = ROOT / "ros2_ws/install/mentor_sim_node/lib/mentor_sim_node/demo"
+    env = workspace_env()
+    shipped = ["--genome", f"ugv={ROOT / 'planners/ugv-paper-dual-s1.json'}",
+               "--genome", f"swarm={ROOT / 'planners/swarm-paper-dual-s1.json'}"]
+    common = [str(exe), "--robots", "ugv", "swarm", "--episodes", "1", *shipped]
+    refused = subprocess.run(common, cwd=ROOT, env=env, capture_output=True, timeout=60)
+    err = refused.stderr.decode().strip().splitlines()
+    assert refused.returncode != 0 and "different periods [0.5, 1.0] s" in err[-1]
+    assert "--continuous" in err[-1]
+    proc = subprocess.run(
+        [*common, "--continuous", "--real-time-factor", "10", "--time-limit", "8",
+         "--timeout", "40"],
+        cwd=ROOT, env=env, capture_output=True, timeout=60,
+    )
+    assert proc.returncode == 0, proc.stderr.decode()[-2000:]
+    lines = proc.stdout.decode().strip().splitlines()
+    assert sorted(line.split()[2] for line in lines) == ["swarm_0", "ugv_0"]
+    assert all("physics steps" in line for line in lines)
+    assert "no cmd_vel for the command timeout" not in proc.stderr.decode()
+
+
 # -------------------------------------------------------------------- issue 16: any robot
 
 

@@ -55,6 +55,12 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--record", default="", help="episode bag to write (one profile only)")
     p.add_argument("--timeout", type=float, default=0.0, help="stop after this many wall s")
     p.add_argument(
+        "--continuous", action="store_true",
+        help="the simulator runs like Gazebo (at --real-time-factor, 0 meaning 1) and each "
+             "planner decides on its own timer at its genome's period, so genomes of "
+             "different periods run together",
+    )
+    p.add_argument(
         "--headline", action="store_true",
         help="planners on a map of their own scans, behind the rotation shim (45 deg) and the "
              "collision guard, as the benchmark's headline planners",
@@ -154,19 +160,25 @@ def main(argv: list[str] | None = None) -> None:
             sys.exit(f"demo: {genome}: no such genome file (give --genome {profile}=FILE)")
         deployed = {**mode, "turn_gain": deployed_turn_gain(profile)}
         values = {"genome": genome, "profile": profile, **(deployed if opts.headline else {})}
+        if opts.continuous:
+            values["decide_on_timer"] = True
         planners.append((f"/{name}", values))
 
     try:
         # the simulator steps at the period the genomes decide at (their metadata)
         periods = {genome_control_period(p["genome"], p["profile"]) for _, p in planners}
-        if len(periods) != 1:
-            sys.exit(f"demo: the genomes decide at different periods {sorted(periods)} s")
-        sim["control_period"] = periods.pop()
+        if len(periods) != 1 and not opts.continuous:
+            sys.exit(f"demo: the genomes decide at different periods {sorted(periods)} s; "
+                     "run them with --continuous")
+        # continuous: each planner keeps its own period, the simulator holds its commands
+        sim["control_period"] = min(periods)
+        sim["continuous"] = opts.continuous
         outcomes = run_graph(sim, planners, opts.timeout, args=["demo", *all_args])
     except (MentorError, ValueError, ParameterException) as err:
         sys.exit(f"demo: {' '.join(str(err).split())}")
     for o in outcomes:
         print(
             f"episode {o.episode}: {o.robot} {o.event} in scenario {o.scenario} after "
-            f"{o.steps} decisions ({o.time_used:.2f} s)"
+            f"{o.steps} {'physics steps' if opts.continuous else 'decisions'} "
+            f"({o.time_used:.2f} s)"
         )

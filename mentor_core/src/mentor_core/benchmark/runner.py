@@ -44,33 +44,62 @@ def limits_of(suite: Suite) -> dict[str, np.ndarray]:
     return {"paper": np.full(len(suite.pairs), PAPER_LIMIT), "scaled": scaled}
 
 
+def run_family(suite: Suite, contender: Contender, family: str) -> Outcomes:
+    """``contender`` on the pairs of ``family`` in ``suite`` (suite order), in one
+    :func:`~mentor_core.sim.episode.run_episodes` call with a fresh policy, so the outcomes do
+    not depend on what ran before or beside it."""
+    limits = limits_of(suite)
+    budgets = np.maximum(limits["paper"], limits["scaled"])
+    idx = [i for i, p in enumerate(suite.pairs) if p.family == family]
+    if not idx:
+        raise ValueError(f"the suite has no pairs of family {family!r}")
+    scenarios = [suite.pairs[i].scenario for i in idx]
+    batch = run_episodes(scenarios, contender.profile, contender.policy(scenarios),
+                         time_budgets=budgets[idx],
+                         input_goals=contender.input_goals(scenarios))  # fmt: skip
+    return outcomes(batch, contender.profile)
+
+
+def family_line(suite: Suite, contender: Contender, family: str, part: Outcomes,
+                seconds: float) -> str:  # fmt: skip
+    """The progress line of one family's run: how many pairs it reached within the paper's
+    limit (as the table counts them), and how many more later."""
+    limits = limits_of(suite)
+    idx = [i for i, p in enumerate(suite.pairs) if p.family == family]
+    ok, _ = under_limit(part, limits["paper"][idx], contender.profile.control_period)
+    done = int(np.count_nonzero(ok))
+    late = int(np.count_nonzero(part.reached)) - done
+    later = f", {late} more later" if late else ""
+    return (f"{contender.name}: {family:<14} {done:>3}/{len(idx)} reached within "
+            f"{PAPER_LIMIT:.0f} s{later} ({seconds:.1f} s)")  # fmt: skip
+
+
+def contender_result(
+    suite: Suite, contender: Contender, parts: Sequence[Outcomes], seconds: float
+) -> ContenderResult:
+    """The result of ``contender`` from its runs of ``suite.families`` (in that order)."""
+    merged = _concatenate(parts)
+    shortest = np.array([p.shortest for p in suite.pairs], dtype=np.float64)
+    families = [p.family for p in suite.pairs]
+    if families != [f for f in suite.families for g in families if g == f]:
+        raise ValueError("the suite's pairs are not grouped by family in its order")
+    scores = score_table(merged, families, shortest, limits_of(suite),
+                         contender.profile.control_period)  # fmt: skip
+    return ContenderResult(contender, merged, scores, seconds)
+
+
 def run_contender(
     suite: Suite, contender: Contender, progress: Progress | None = None
 ) -> ContenderResult:
     """Run ``contender`` on every pair of ``suite``; ``progress`` gets a line per family."""
-    limits = limits_of(suite)
-    budgets = np.maximum(limits["paper"], limits["scaled"])
-    families = [p.family for p in suite.pairs]
     parts: list[Outcomes] = []
     began = time.perf_counter()
     for family in suite.families:
-        idx = [i for i, f in enumerate(families) if f == family]
-        scenarios = [suite.pairs[i].scenario for i in idx]
         t0 = time.perf_counter()
-        batch = run_episodes(scenarios, contender.profile, contender.policy(scenarios),
-                             time_budgets=budgets[idx],
-                             input_goals=contender.input_goals(scenarios))  # fmt: skip
-        parts.append(outcomes(batch, contender.profile))
-        if progress is not None:  # counted as the table counts them: within the paper's limit
-            ok, _ = under_limit(parts[-1], limits["paper"][idx], contender.profile.control_period)
-            done, late = int(np.count_nonzero(ok)), int(np.count_nonzero(batch.reached) - ok.sum())
-            later = f", {late} more later" if late else ""
-            progress(f"{contender.name}: {family:<14} {done:>3}/{len(idx)} reached within "
-                     f"{PAPER_LIMIT:.0f} s{later} ({time.perf_counter() - t0:.1f} s)")  # fmt: skip
-    merged = _concatenate(parts)
-    shortest = np.array([p.shortest for p in suite.pairs], dtype=np.float64)
-    scores = score_table(merged, families, shortest, limits, contender.profile.control_period)
-    return ContenderResult(contender, merged, scores, time.perf_counter() - began)
+        parts.append(run_family(suite, contender, family))
+        if progress is not None:
+            progress(family_line(suite, contender, family, parts[-1], time.perf_counter() - t0))
+    return contender_result(suite, contender, parts, time.perf_counter() - began)
 
 
 def run_all(

@@ -17,6 +17,7 @@ head to head with the best baseline per family (``report.head_to_head``), and wi
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import sys
 import time
@@ -37,10 +38,12 @@ from mentor_core.benchmark.contenders import (
     with_turn_gain,
 )
 from mentor_core.benchmark.document import bench_document
+from mentor_core.benchmark.parallel import run_parallel
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import (
     LIMIT_KEYS,
     SPLITS,
+    Suite,
     build_suite,
     reference_profile,
     shipped_limits,
@@ -101,7 +104,26 @@ def build_parser() -> argparse.ArgumentParser:
                         "--collision-guard or --turn-gain)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
+    p.add_argument("--workers", type=int, default=1,
+                   help="processes running planners and families side by side (default 1); "
+                        "the results are the same for any number")  # fmt: skip
     return p
+
+
+def _setup(args: argparse.Namespace) -> tuple[Suite, list[Contender]]:
+    """The suite and the planners the command line names (in every worker the same);
+    MentorError for bad arguments (FileFormatError / ConfigError naming a genome file)."""
+    if args.pairs_per_family < 1:
+        raise MentorError(f"--pairs-per-family must be >= 1, got {args.pairs_per_family}")
+    families = None if args.families is None else [
+        f.strip() for f in args.families.split(",") if f.strip()]
+    robot = get_profile(args.robot)
+    contenders = _contenders(args, robot)
+    try:
+        suite = build_suite(robot, args.split, families, args.pairs_per_family)
+    except ValueError as err:
+        raise MentorError(f"--families: {one_line(err)}") from None
+    return suite, contenders
 
 
 def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender]:
@@ -206,26 +228,25 @@ def main(argv: list[str] | None = None) -> int:
         print(f"mentor-bench: {line}", file=sys.stderr, flush=True)
 
     try:
-        if args.pairs_per_family < 1:
-            raise MentorError(f"--pairs-per-family must be >= 1, got {args.pairs_per_family}")
-        families = None if args.families is None else [
-            f.strip() for f in args.families.split(",") if f.strip()]
+        if args.workers < 1:
+            raise MentorError(f"--workers must be >= 1, got {args.workers}")
         if args.out is not None and args.out.exists() and not args.out.is_dir():
             raise MentorError(f"{args.out}: exists and is not a directory")
-        robot = get_profile(args.robot)
-        contenders = _contenders(args, robot)
         began = time.perf_counter()
-        try:
-            suite = build_suite(robot, args.split, families, args.pairs_per_family)
-        except ValueError as err:
-            raise MentorError(f"--families: {one_line(err)}") from None
+        suite, contenders = _setup(args)
         progress(f"{len(suite.pairs)} pairs of {args.robot} on the {args.split} split in "
                  f"{len({p.scenario.world.name for p in suite.pairs})} worlds "
                  f"({time.perf_counter() - began:.1f} s)")  # fmt: skip
-        results = []
-        for k, contender in enumerate(contenders):
-            progress(f"[{k + 1}/{len(contenders)}] {contender.name} ({contender.kind})")
-            results.append(run_contender(suite, contender, progress))
+        if args.workers > 1:
+            progress(f"{len(contenders)} planners x {len(suite.families)} families on "
+                     f"{args.workers} worker processes")  # fmt: skip
+            results = run_parallel(functools.partial(_setup, args), args.workers, progress,
+                                   built=(suite, contenders))  # fmt: skip
+        else:
+            results = []
+            for k, contender in enumerate(contenders):
+                progress(f"[{k + 1}/{len(contenders)}] {contender.name} ({contender.kind})")
+                results.append(run_contender(suite, contender, progress))
         for limit in LIMITS:
             title = "50 s" if limit == "paper" else "scaled to the shortest path"
             print(f"success / SPL, {args.robot}, {args.split} split, limit {title}")
