@@ -19,6 +19,7 @@ import os
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 
 from mentor_core.benchmark.contenders import Contender
 from mentor_core.benchmark.runner import (
@@ -30,7 +31,8 @@ from mentor_core.benchmark.runner import (
 )
 from mentor_core.benchmark.scores import Outcomes
 from mentor_core.benchmark.suite import Suite
-from mentor_core.training.child_processes import die_with_parent
+from mentor_core.errors import MentorError
+from mentor_core.training.child_processes import die_with_parent, stop_pool
 
 #: builds the suite and the contenders, the same in every process
 Setup = Callable[[], tuple[Suite, Sequence[Contender]]]
@@ -46,17 +48,20 @@ def run_parallel(
     """Every contender of ``setup()`` on every family of its suite, on ``workers`` processes;
     the results in contender order, as :func:`~mentor_core.benchmark.runner.run_all` gives
     them. ``built``: ``setup()``'s result when the caller already has it. ``progress`` gets
-    each family's line in order as the runs finish. ValueError for fewer than 1 worker."""
+    each family's line in order as the runs finish. ValueError for fewer than 1 worker;
+    MentorError when a worker dies (its own error, e.g. ``setup``'s, is on stderr above); on
+    any other exception, Ctrl-C included, the workers are stopped before it goes on."""
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
     suite, contenders = setup() if built is None else built
     tasks = [(k, family) for k in range(len(contenders)) for family in suite.families]
-    with ProcessPoolExecutor(
+    pool = ProcessPoolExecutor(
         max_workers=min(workers, len(tasks)) or 1,
         mp_context=multiprocessing.get_context("spawn"),
         initializer=_start_worker,
         initargs=(os.getpid(), setup, len(suite.pairs), [c.name for c in contenders]),
-    ) as pool:
+    )
+    try:
         futures: dict[tuple[int, str], Future[tuple[Outcomes, float]]] = {
             task: pool.submit(_run_task, *task) for task in tasks
         }
@@ -70,6 +75,13 @@ def run_parallel(
                 if progress is not None:
                     progress(family_line(suite, contender, family, part, took))
             results.append(contender_result(suite, contender, parts, seconds))
+    except BrokenProcessPool as err:
+        stop_pool(pool)
+        raise MentorError(f"a benchmark worker stopped ({err}); its error is above") from None
+    except BaseException:  # Ctrl-C included: the workers ignore it, so stop them now
+        stop_pool(pool)
+        raise
+    pool.shutdown(wait=True)
     return results
 
 

@@ -33,6 +33,7 @@ import sys
 import threading
 import time
 from collections.abc import Collection
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
@@ -55,6 +56,21 @@ def die_with_parent(parent_pid: int) -> None:
                 os._exit(1)
             return
     threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+
+
+def stop_pool(pool: ProcessPoolExecutor) -> None:
+    """Stop ``pool``'s workers now (SIGTERM, then SIGKILL after 5 s) and shut it down,
+    dropping the tasks not started: its workers ignore Ctrl-C (:func:`die_with_parent`)."""
+    # the executor has no public way to stop a busy worker (Python 3.14 adds one)
+    processes = list((pool._processes or {}).values())
+    for process in processes:
+        process.terminate()
+    for process in processes:
+        process.join(timeout=5)
+        if process.is_alive():
+            process.kill()
+            process.join()
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _watch_parent(parent_pid: int) -> None:

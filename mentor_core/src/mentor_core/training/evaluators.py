@@ -29,7 +29,7 @@ import numpy as np
 
 from mentor_core.errors import ConfigError, MentorError, one_line
 from mentor_core.evolution.genome import Genome
-from mentor_core.training.child_processes import Reaper, die_with_parent
+from mentor_core.training.child_processes import Reaper, die_with_parent, stop_pool
 from mentor_core.training.gain_overlap import GainOverlap, split_evenly
 from mentor_core.training.problem import Evaluation, GainScope, NavigationProblem
 
@@ -158,16 +158,7 @@ class PoolEvaluator(Evaluator):
 
     def terminate(self) -> None:
         """Stop the workers now (SIGTERM, then SIGKILL) and shut the pool down."""
-        # the executor has no public way to stop a busy worker (Python 3.14 adds one)
-        processes = list((self._pool._processes or {}).values())
-        for process in processes:
-            process.terminate()
-        for process in processes:
-            process.join(timeout=5)
-            if process.is_alive():
-                process.kill()
-                process.join()
-        self._pool.shutdown(wait=True, cancel_futures=True)
+        stop_pool(self._pool)
 
 
 class BackendError(MentorError, RuntimeError):
