@@ -6,6 +6,7 @@
 # Usage: scripts/study.sh [OUT_DIR] [SEEDS] [JOBS] [CONFIGS]
 #   defaults: out/study, "1 2 3", 2, "original paper" (the paper's settings and the shipped
 #   ones; a CONFIGS word is a shipped config name or a YAML file, labelled by its stem).
+#   JOBS: training runs side by side, and the benchmark's worker processes.
 # Runs go to OUT/<config>/<robot>-<framework>-s<seed>; finished ones are kept, interrupted
 # ones resume. Nothing here chooses a setting: the test split and the bags are only reported.
 # The benchmark runs every genome as the shipped planners are deployed, and the baselines
@@ -62,7 +63,7 @@ for robot in ugv swarm; do
   fi
   rm -rf "$OUT/bench_$robot"
   "$BIN/mentor-bench" "${genomes[@]}" "${labels[@]}" --robot "$robot" --split test \
-    --pairs-per-family "$PAIRS" "${BENCH_FLAGS[@]}" --out "$OUT/bench_$robot" \
+    --pairs-per-family "$PAIRS" "${BENCH_FLAGS[@]}" --workers "$JOBS" --out "$OUT/bench_$robot" \
     > "$OUT/bench_$robot.txt"
   extra+=(--bench "$OUT/bench_$robot/bench.json")
 done
