@@ -8,6 +8,11 @@ variant the document holds (plain, guarded, on a scan map, at the shipped limits
 is not a baseline), and the margins. Picking the best variant per family and column is a
 higher bar than any one baseline; it is the bar the headline tables of
 ``benchmarks/RESULTS.md`` use.
+
+Each margin comes with a 95 % interval of a paired, family-stratified bootstrap over the
+pairs (:mod:`~mentor_core.report.bootstrap`; the evolved planner's per-pair value the mean
+over its seeds, the baseline's that of the variant named), so that a user can tell a margin
+that another draw of pairs could undo from one it would not.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from mentor_core.report.bootstrap import paired_interval
 from mentor_core.report.seed_groups import seed_groups
 
 #: margins closer to 0 than this are ties: a mean of seeds' rates k/n carries rounding error
@@ -40,6 +46,9 @@ class FamilyMatch:
     best_success_by: str
     best_spl: float
     best_spl_by: str
+    #: 95 % intervals of the margins (fraction, SPL; NaN where the document lacks per-pair data)
+    success_interval: tuple[float, float] = (math.nan, math.nan)
+    spl_interval: tuple[float, float] = (math.nan, math.nan)
 
     @property
     def success_margin(self) -> float:
@@ -66,6 +75,24 @@ class FamilyMatch:
         """Above the best baseline on both success and SPL."""
         return self.success_margin > TIE and self.spl_margin > TIE
 
+    @property
+    def success_verdict(self) -> str:
+        """``leads`` or ``trails`` where the success margin's interval excludes 0, else
+        ``level`` (``-`` without an interval)."""
+        return _verdict(self.success_interval)
+
+    @property
+    def spl_verdict(self) -> str:
+        """As :attr:`success_verdict`, for SPL."""
+        return _verdict(self.spl_interval)
+
+
+def _verdict(interval: tuple[float, float]) -> str:
+    lo, hi = interval
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return "-"
+    return "leads" if lo > TIE else "trails" if hi < -TIE else "level"
+
 
 def _score(contender: Mapping[str, Any], limit: str, family: str, key: str) -> float:
     value = contender["scores"][limit][family][key]
@@ -88,6 +115,48 @@ def _best(baselines: list[Mapping[str, Any]], limit: str, family: str,
     return values[i], str(baselines[i]["name"])
 
 
+def per_pair(doc: Mapping[str, Any], contender: Mapping[str, Any],
+             limit: str) -> dict[str, np.ndarray] | None:  # fmt: skip
+    """A contender's per-pair success (1 or 0) and SPL term under ``limit``, as its scores
+    count them (``benchmark.scores``); None where its results lack what they need or do not
+    add up to its scores (a document of an older version)."""
+    try:
+        period = float(contender["settings"]["control_period"])
+        if limit == "paper":
+            limits = np.full(len(doc["pairs"]), float(doc["paper_limit"]))
+        else:
+            limits = np.array([float(p["time_limit"]) for p in doc["pairs"]])
+        results = contender["results"]
+        reached = np.array([bool(r["reached"]) for r in results])
+        steps = np.array([int(r["steps"]) for r in results])
+        taken = np.array([float(r["path_length"]) for r in results])
+        shortest = np.array([float(p["shortest"]) for p in doc["pairs"]])
+    except (KeyError, TypeError, ValueError):
+        return None
+    ok = reached & (steps <= np.ceil(limits / period).astype(np.int64))
+    denom = np.maximum(taken, shortest)
+    credit = np.divide(shortest, denom, out=np.ones_like(shortest), where=denom > 0.0)
+    values = {"success": ok.astype(np.float64), "spl": np.where(ok, credit, 0.0)}
+    families = np.array([p["family"] for p in doc["pairs"]])
+    for family in doc["families"]:
+        for key, v in values.items():
+            if abs(float(v[families == family].mean()) - _score(contender, limit, family,
+                                                                  key)) > 1e-9:
+                return None
+    return values
+
+
+def _interval(doc: Mapping[str, Any], mine: list[dict[str, np.ndarray] | None],
+              theirs: dict[str, np.ndarray] | None, family: str,
+              key: str) -> tuple[float, float]:  # fmt: skip
+    if theirs is None or any(m is None for m in mine):
+        return math.nan, math.nan
+    families = np.array([p["family"] for p in doc["pairs"]])
+    diff = np.mean([m[key] for m in mine if m is not None], axis=0) - theirs[key]
+    chosen = doc["families"] if family == "overall" else [family]
+    return paired_interval([diff[families == f] for f in chosen])
+
+
 def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list[FamilyMatch]]:
     """Each evolved planner of a ``mentor-bench`` document (``benchmark.document``) against
     the best baseline per family and ``overall``, under ``limit`` (``paper``: 50 s, or
@@ -101,16 +170,21 @@ def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list
     grouped = {i for idx in groups.values() for i in idx}
     planners = dict(groups) | {str(c["name"]): [i] for i, c in enumerate(contenders)
                                if c["kind"] == "evolved" and i not in grouped}
+    pairs = {str(c["name"]): per_pair(doc, c, limit) for c in contenders}
     out: dict[str, list[FamilyMatch]] = {}
     for name, idx in planners.items():
+        mine = [pairs[str(contenders[i]["name"])] for i in idx]
         rows = []
         for family in [*doc["families"], "overall"]:
             mean = {key: _mean([_score(contenders[i], limit, family, key) for i in idx])
                     for key in ("success", "spl")}  # fmt: skip
             best_success, success_by = _best(baselines, limit, family, "success")
             best_spl, spl_by = _best(baselines, limit, family, "spl")
-            rows.append(FamilyMatch(family, mean["success"], mean["spl"], best_success,
-                                    success_by, best_spl, spl_by))
+            rows.append(FamilyMatch(
+                family, mean["success"], mean["spl"], best_success, success_by, best_spl,
+                spl_by, _interval(doc, mine, pairs.get(success_by), family, "success"),
+                _interval(doc, mine, pairs.get(spl_by), family, "spl"),
+            ))  # fmt: skip
         out[name] = rows
     return out
 
@@ -121,12 +195,15 @@ def _value(x: float, percent: bool) -> str:
     return f"{100 * x:.1f} %" if percent else f"{x:.2f}"
 
 
-def _margin(value: float, scale: float, digits: int) -> str:
+def _margin(value: float, interval: tuple[float, float], scale: float, digits: int) -> str:
     if not math.isfinite(value):
         return "-"
     word = "leads" if value > TIE else "trails" if value < -TIE else "ties"
     value = 0.0 if word == "ties" else value
-    return f"{scale * value:+.{digits}f} {word}"
+    lo, hi = interval
+    within = (f" ({scale * lo:+.{digits}f} to {scale * hi:+.{digits}f})"
+              if math.isfinite(lo) and math.isfinite(hi) else "")  # fmt: skip
+    return f"{scale * value:+.{digits}f} {word}{within}"
 
 
 def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[str]:
@@ -146,13 +223,25 @@ def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[
             md.append(f"| {label} | {_value(r.success, True)} / {_value(r.spl, False)} | "
                       f"{_value(r.best_success, True)} ({r.best_success_by}) | "
                       f"{_value(r.best_spl, False)} ({r.best_spl_by}) | "
-                      f"{_margin(r.success_margin, 100.0, 1)} | "
-                      f"{_margin(r.spl_margin, 1.0, 3)} |")
+                      f"{_margin(r.success_margin, r.success_interval, 100.0, 1)} | "
+                      f"{_margin(r.spl_margin, r.spl_interval, 1.0, 3)} |")
         families = [r for r in rows if r.family != "overall"]
         n = len(families)
         on_success = sum(r.level_on_success for r in families)
         on_spl = sum(r.level_on_spl for r in families)
         md += ["", f"{who} leads or ties the best baseline on success in {on_success} of {n} "
                f"families, on SPL in {on_spl} of {n}, and beats it on both in "
-               f"{sum(r.beats for r in families)} of {n}.", ""]
+               f"{sum(r.beats for r in families)} of {n}." + _settled(families), ""]
     return md
+
+
+def _settled(rows: list[FamilyMatch]) -> str:
+    """The sentence on the margins whose 95 % interval excludes 0 ('' without intervals)."""
+    if not rows or any(r.success_verdict == "-" or r.spl_verdict == "-" for r in rows):
+        return ""
+    count = {(key, word): sum(getattr(r, f"{key}_verdict") == word for r in rows)
+             for key in ("success", "spl") for word in ("leads", "trails")}  # fmt: skip
+    return (f" Beyond the 95 % interval beside each margin it leads on success in "
+            f"{count['success', 'leads']} and trails in {count['success', 'trails']}; on SPL "
+            f"it leads in {count['spl', 'leads']} and trails in {count['spl', 'trails']}; "
+            f"the other margins are within what another draw of pairs could undo.")
