@@ -11,7 +11,8 @@
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
-every control period (``decide_on_timer``), publishing ``cmd_vel``. With ``scan_map`` it plans
+every control period (``decide_on_timer``), publishing ``cmd_vel`` (again at ``repeat_rate``
+between decisions, for bases that stop on a quiet ``cmd_vel``). With ``scan_map`` it plans
 on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
 odometry frame (``docs/ros.md``, "Global plans").
 """
@@ -39,6 +40,7 @@ ARGUMENTS = {
     "scan_map_resolution": "0.0",
     "scan_map_origin": "[-10.0, -10.0]",
     "scan_map_keep": "true",
+    "repeat_rate": "10.0",
 }
 
 
@@ -64,6 +66,9 @@ def generate_launch_description() -> LaunchDescription:
             "scan_map_origin": ParameterValue(config["scan_map_origin"]),
             "scan_map_keep": ParameterValue(config["scan_map_keep"], value_type=bool),
             "decide_on_timer": True,
+            # the base stops on a quiet cmd_vel (diff_drive_controller: 0.5 s), a planner
+            # decides every 0.5-1 s: its command goes out again at this rate in between
+            "repeat_rate": ParameterValue(config["repeat_rate"], value_type=float),
             "scan_kind": "lidar",
         }],
         remappings=[
