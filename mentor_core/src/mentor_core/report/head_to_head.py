@@ -200,7 +200,7 @@ def _margin(value: float, interval: tuple[float, float], scale: float, digits: i
         return "-"
     word = "leads" if value > TIE else "trails" if value < -TIE else "ties"
     value = 0.0 if word == "ties" else value
-    lo, hi = interval
+    lo, hi = (0.0 if abs(x) < TIE else x for x in interval)  # no "-0.0" of rounding error
     within = (f" ({scale * lo:+.{digits}f} to {scale * hi:+.{digits}f})"
               if math.isfinite(lo) and math.isfinite(hi) else "")  # fmt: skip
     return f"{scale * value:+.{digits}f} {word}{within}"
