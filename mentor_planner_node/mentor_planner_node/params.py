@@ -55,7 +55,7 @@ class PlannerParameters:
     rotation_shim_deg: float = 0.0
     collision_guard: bool = False
     turn_gain: float = 1.0
-    repeat_rate: float = 0.0
+    repeat_rate: float = REPEAT_RATE
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
