@@ -137,6 +137,38 @@ def test_workers_give_the_same_results_as_one_process(
     assert (out / "bench.md").read_text() == (bench_dir / "bench.md").read_text()
 
 
+def test_baselines_chosen_on_another_run_add_a_second_head_to_head(
+    bench_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    capsys.readouterr()
+    chooser = bench_dir / "bench.json"
+    out = tmp_path / "chosen"
+    args = [str(UGV_GENOME), "--label", "ref", "--robot", "ugv", "--families", "slalom",
+            "--pairs-per-family", "2", "--baseline-limits", "reference",
+            "--baselines-chosen-on", str(chooser)]
+    assert bench_main([*args, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert f"head to head with the baseline best on the validation split ({chooser})" in printed
+    doc = load_bench(out / "bench.json")
+    choice = doc["baseline_choice"]
+    assert choice["source"] == str(chooser) and choice["split"] == "validation"
+    assert set(choice["choice"]) == {"slalom", "traps", "overall"}
+    assert choice["choice"]["slalom"]["success"] in ("vfh", "bug")
+    assert "chosen baseline: success" in (out / "bench.md").read_text()
+    # a run that lacks a chosen variant, or of another robot, is refused before it starts
+    capsys.readouterr()
+    assert bench_main([*args, "--baselines", "none"]) == 2
+    err = capsys.readouterr().err
+    assert "is not in this run" in err and len(err.strip().splitlines()) == 1
+    assert bench_main(["--robot", "swarm", "--baselines-chosen-on", str(chooser)]) == 2
+    assert "a run of 'ugv', not 'swarm'" in capsys.readouterr().err
+    doc["baseline_choice"] = {"choice": {"slalom": "vfh"}}
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    with pytest.raises(FileFormatError, match="baseline_choice must map"):
+        load_bench(bad)
+
+
 def test_out_must_not_be_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     target = tmp_path / "taken"
     target.write_text("keep me")

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from mentor_core.report.head_to_head import head_to_head, head_to_head_markdown
+from mentor_core.report.head_to_head import baseline_choice, head_to_head, head_to_head_markdown
 
 
 def _contender(name: str, kind: str, scores: dict[str, tuple[float, float]]) -> dict[str, Any]:
@@ -147,3 +147,21 @@ def test_without_per_pair_results_the_margins_have_no_interval() -> None:
     assert rooms.success_verdict == "-" and rooms.spl_verdict == "-"
     md = "\n".join(head_to_head_markdown(_doc()))
     assert " to " not in md and "Beyond the 95 %" not in md
+
+
+def test_a_choice_from_another_run_sets_the_bars() -> None:
+    doc = _doc()
+    choice = baseline_choice(doc)
+    assert choice["rooms"] == {"success": "mapped-bug", "spl": "vfh"}
+    assert choice["forest"] == {"success": "vfh", "spl": "vfh"}
+    # another run chose vfh everywhere: its rooms bar is vfh's 0.7, not the best 0.85
+    everywhere = {f: {"success": "vfh", "spl": "vfh"} for f in ["rooms", "forest", "overall"]}
+    rooms = head_to_head(doc, choice=everywhere)["dual"][0]
+    assert (rooms.best_success, rooms.best_success_by) == (0.7, "vfh")
+    assert rooms.success_margin == pytest.approx(0.15)
+    md = "\n".join(head_to_head_markdown(doc, choice=everywhere))
+    assert "chosen baseline: success" in md and "leads or ties the chosen baseline" in md
+    with pytest.raises(ValueError, match="'astar' for rooms success"):
+        head_to_head(doc, choice={**everywhere, "rooms": {"success": "astar", "spl": "vfh"}})
+    with pytest.raises(ValueError, match="no baseline"):
+        baseline_choice({"families": [], "contenders": []})

@@ -13,6 +13,9 @@ time in s, NaN written as null) and ``results`` per pair (``reached``, ``collide
 ...]`` rounded to the millimetre). A pair's episode runs to the longer of its two limits, so
 ``reached`` and ``collided`` are within that one; ``scores["paper"]`` counts those whose
 ``steps`` are at most ``ceil(paper_limit / settings.control_period)``, its own period.
+Optional: ``baseline_choice`` (``source``, the file of the run it comes from, its ``split``,
+and ``choice``: ``{family | "overall": {"success" | "spl": baseline name}}``), the variants
+that set the head to head's second bars (``mentor-bench --baselines-chosen-on``).
 """
 
 from __future__ import annotations
@@ -163,4 +166,12 @@ def load_bench(path: str | Path) -> dict[str, Any]:
                     or any(k not in table[g] for k in SCORE_KEYS)
                     for g in ["overall", *families]):
                 raise FileFormatError(source, f"contenders[{j}] lacks the {limit!r} scores")
+    chosen = doc.get("baseline_choice")
+    if chosen is not None and not (
+            isinstance(chosen, dict) and isinstance(chosen.get("choice"), dict)
+            and all(isinstance(v, dict) and all(isinstance(v.get(k), str)
+                                                for k in ("success", "spl"))
+                    for v in chosen["choice"].values())):  # fmt: skip
+        raise FileFormatError(source, "baseline_choice must map each family to the names of "
+                                      "its success and SPL baselines")  # fmt: skip
     return doc

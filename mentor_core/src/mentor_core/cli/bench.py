@@ -22,6 +22,7 @@ import math
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -37,7 +38,7 @@ from mentor_core.benchmark.contenders import (
     on_scan_map,
     with_turn_gain,
 )
-from mentor_core.benchmark.document import bench_document
+from mentor_core.benchmark.document import bench_document, load_bench
 from mentor_core.benchmark.parallel import run_parallel
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import (
@@ -51,7 +52,7 @@ from mentor_core.benchmark.suite import (
 from mentor_core.cli.arguments import check_deployed, rotation_shim_threshold, turn_gain_value
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
-from mentor_core.report.head_to_head import head_to_head_markdown
+from mentor_core.report.head_to_head import baseline_choice, head_to_head_markdown
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, get_profile
 
@@ -104,6 +105,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "--collision-guard or --turn-gain)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
+    p.add_argument("--baselines-chosen-on", type=Path, metavar="BENCH_JSON",
+                   help="also hold each planner head to head against the baseline variant "
+                        "that was best in each family and column in that run (the "
+                        "validation split's, with the same baselines)")
     p.add_argument("--workers", type=int, default=1,
                    help="processes running planners and families side by side (default 1); "
                         "the results are the same for any number")  # fmt: skip
@@ -206,6 +211,34 @@ def _baseline_limits(
     return [chosen[s] for s in sources]
 
 
+def _baseline_choice(
+    path: Path | None, robot: str, contenders: list[Contender], families: tuple[str, ...]
+) -> dict[str, Any] | None:
+    """``bench.json``'s ``baseline_choice`` from the run in ``path`` (None: none);
+    FileFormatError naming the file, MentorError when it is of another robot, lacks one of
+    ``families`` or names a baseline this run lacks."""
+    if path is None:
+        return None
+    other = load_bench(path)
+    if other["robot"] != robot:
+        raise MentorError(f"--baselines-chosen-on {path}: a run of {other['robot']!r}, "
+                          f"not {robot!r}")  # fmt: skip
+    try:
+        choice = baseline_choice(other, "paper")
+    except ValueError as err:
+        raise MentorError(f"--baselines-chosen-on {path}: {one_line(err)}") from None
+    absent = [f for f in families if f not in choice]
+    if absent:
+        raise MentorError(f"--baselines-chosen-on {path}: no {', '.join(absent)} in that run")
+    mine = {c.name for c in contenders if c.kind == "baseline"}
+    missing = sorted({n for row in choice.values() for n in row.values()} - mine)
+    if missing:
+        raise MentorError(f"--baselines-chosen-on {path}: its {', '.join(missing)} is not in "
+                          "this run (give the same --baselines, --baseline-limits and "
+                          "--deployed)")  # fmt: skip
+    return {"source": str(path), "split": other["split"], "choice": choice}
+
+
 def table(results: list[ContenderResult], families: tuple[str, ...], limit: str) -> str:
     """The success / SPL table of one limit, a row per family, a column per planner."""
     width = max(12, *(len(r.contender.name) for r in results))
@@ -234,6 +267,8 @@ def main(argv: list[str] | None = None) -> int:
             raise MentorError(f"{args.out}: exists and is not a directory")
         began = time.perf_counter()
         suite, contenders = _setup(args)
+        chosen = _baseline_choice(args.baselines_chosen_on, args.robot, contenders,
+                                  suite.families)  # fmt: skip
         progress(f"{len(suite.pairs)} pairs of {args.robot} on the {args.split} split in "
                  f"{len({p.scenario.world.name for p in suite.pairs})} worlds "
                  f"({time.perf_counter() - began:.1f} s)")  # fmt: skip
@@ -253,11 +288,17 @@ def main(argv: list[str] | None = None) -> int:
             print(table(results, suite.families, limit))
             print()
         doc = bench_document(suite, results, args.pairs_per_family)
+        if chosen is not None:
+            doc["baseline_choice"] = chosen
         versus = head_to_head_markdown(doc, "paper")
         if versus:
             print(f"head to head with the best baseline, {args.robot}, {args.split} split, "
                   "limit 50 s")
             print("\n".join(versus))
+        if versus and chosen is not None:
+            print(f"head to head with the baseline best on the {chosen['split']} split "
+                  f"({chosen['source']}), limit 50 s")
+            print("\n".join(head_to_head_markdown(doc, "paper", chosen["choice"])))
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)
             md = bench_markdown(doc, args.out, heading="#")

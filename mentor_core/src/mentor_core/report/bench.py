@@ -199,6 +199,12 @@ def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "b
         md += [f"Head to head, within {LIMIT_TITLES['paper']}: each evolved planner against "
                "the best baseline variant in each family, on success and on SPL separately "
                "(the oracle is not a baseline):", "", *versus]
+    chosen = doc.get("baseline_choice")
+    if versus and chosen is not None:
+        md += [f"Head to head against the baseline variant that was best on the "
+               f"{chosen.get('split', '?')} split (`{chosen.get('source', '?')}`) in each "
+               "family and column, scored here (no winner's bias from picking the best on "
+               "these pairs):", "", *head_to_head_markdown(doc, "paper", chosen["choice"])]
     md += [f"![success per family]({prefix}_success.png)", "",
            f"![success per family, scaled limit]({prefix}_success_scaled.png)", ""]
     rows = []

@@ -157,15 +157,47 @@ def _interval(doc: Mapping[str, Any], mine: list[dict[str, np.ndarray] | None],
     return paired_interval([diff[families == f] for f in chosen])
 
 
-def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list[FamilyMatch]]:
+#: ``{family | "overall": {"success" | "spl": baseline name}}``: the variant that sets each bar
+Choice = Mapping[str, Mapping[str, str]]
+
+
+def baseline_choice(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, dict[str, str]]:
+    """The best baseline variant of a ``mentor-bench`` document in each family and
+    ``overall``, on success and on SPL (the first of equals): run on the validation split,
+    the bars a test run's head to head may take instead of its own best (:func:`head_to_head`,
+    ``choice``), free of the winner's bias of picking the best on the pairs that are scored.
+    ValueError when the document holds no baseline."""
+    baselines = [c for c in doc["contenders"] if c["kind"] == "baseline"]
+    if not baselines:
+        raise ValueError("the document holds no baseline to choose from")
+    return {family: {key: _best(baselines, limit, family, key)[1] for key in ("success", "spl")}
+            for family in [*doc["families"], "overall"]}  # fmt: skip
+
+
+def head_to_head(
+    doc: Mapping[str, Any], limit: str = "paper", choice: Choice | None = None
+) -> dict[str, list[FamilyMatch]]:
     """Each evolved planner of a ``mentor-bench`` document (``benchmark.document``) against
     the best baseline per family and ``overall``, under ``limit`` (``paper``: 50 s, or
-    ``scaled``). Keys: the seed group's name (``<name>`` of ``<name>-s<seed>``, several
-    seeds) or the contender's name. Empty when the document holds no baseline."""
+    ``scaled``), or with ``choice`` (:func:`baseline_choice` of another run) against the
+    variant it names. Keys: the seed group's name (``<name>`` of ``<name>-s<seed>``,
+    several seeds) or the contender's name. Empty when the document holds no baseline.
+    ValueError when ``choice`` names a family or a baseline the document lacks."""
     contenders = doc["contenders"]
     baselines = [c for c in contenders if c["kind"] == "baseline"]
     if not baselines:
         return {}
+    by_name = {str(b["name"]): b for b in baselines}
+
+    def bar(family: str, key: str) -> tuple[float, str]:
+        if choice is None:
+            return _best(baselines, limit, family, key)
+        name = choice.get(family, {}).get(key)
+        if name not in by_name:
+            raise ValueError(f"the baseline choice names {name!r} for {family} {key}, which "
+                             "this run lacks")  # fmt: skip
+        return _score(by_name[name], limit, family, key), name
+
     groups = seed_groups(contenders)
     grouped = {i for idx in groups.values() for i in idx}
     planners = dict(groups) | {str(c["name"]): [i] for i, c in enumerate(contenders)
@@ -178,8 +210,8 @@ def head_to_head(doc: Mapping[str, Any], limit: str = "paper") -> dict[str, list
         for family in [*doc["families"], "overall"]:
             mean = {key: _mean([_score(contenders[i], limit, family, key) for i in idx])
                     for key in ("success", "spl")}  # fmt: skip
-            best_success, success_by = _best(baselines, limit, family, "success")
-            best_spl, spl_by = _best(baselines, limit, family, "spl")
+            best_success, success_by = bar(family, "success")
+            best_spl, spl_by = bar(family, "spl")
             rows.append(FamilyMatch(
                 family, mean["success"], mean["spl"], best_success, success_by, best_spl,
                 spl_by, _interval(doc, mine, pairs.get(success_by), family, "success"),
@@ -206,17 +238,21 @@ def _margin(value: float, interval: tuple[float, float], scale: float, digits: i
     return f"{scale * value:+.{digits}f} {word}{within}"
 
 
-def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[str]:
-    """Markdown lines: a table per evolved planner of :func:`head_to_head`, each followed by
-    a line counting the families where it leads or ties on success, on SPL, and beats on
-    both. No lines when the document has no evolved planner or no baseline."""
+def head_to_head_markdown(
+    doc: Mapping[str, Any], limit: str = "paper", choice: Choice | None = None
+) -> list[str]:
+    """Markdown lines: a table per evolved planner of :func:`head_to_head` (with ``choice``:
+    against the variants it names), each followed by a line counting the families where it
+    leads or ties on success, on SPL, and beats on both. No lines when the document has no
+    evolved planner or no baseline."""
     md: list[str] = []
     groups = seed_groups(doc["contenders"])
-    for name, rows in head_to_head(doc, limit).items():
+    bar = "best baseline" if choice is None else "chosen baseline"
+    for name, rows in head_to_head(doc, limit, choice).items():
         seeds = len(groups.get(name, ()))
         who = f"`{name}`" + (f" (mean of {seeds} seeds)" if seeds else "")
-        md += [f"| family | {who}: success / SPL | best baseline: success | "
-               "best baseline: SPL | success (points) | SPL |",
+        md += [f"| family | {who}: success / SPL | {bar}: success | "
+               f"{bar}: SPL | success (points) | SPL |",
                "|---|---|---|---|---|---|"]
         for r in rows:
             label = f"**{r.family}**" if r.family == "overall" else r.family
@@ -229,7 +265,7 @@ def head_to_head_markdown(doc: Mapping[str, Any], limit: str = "paper") -> list[
         n = len(families)
         on_success = sum(r.level_on_success for r in families)
         on_spl = sum(r.level_on_spl for r in families)
-        md += ["", f"{who} leads or ties the best baseline on success in {on_success} of {n} "
+        md += ["", f"{who} leads or ties the {bar} on success in {on_success} of {n} "
                f"families, on SPL in {on_spl} of {n}, and beats it on both in "
                f"{sum(r.beats for r in families)} of {n}." + _settled(families), ""]
     return md
