@@ -68,9 +68,15 @@ def under_limit(
 ) -> tuple[BoolArray, BoolArray]:
     """``(success, collision)`` per pair under per-pair time limits (s): an episode still
     running after ``ceil(L / dt)`` decisions timed out (module docstring)."""
-    allowed = np.ceil(np.asarray(limits, dtype=np.float64) / control_period).astype(np.int64)
-    within = result.steps <= allowed
+    within = result.steps <= decisions_allowed(limits, control_period)
     return result.reached & within, result.collided & within
+
+
+def decisions_allowed(limits: Sequence[float] | FloatArray, control_period: float) -> IntArray:
+    """Decisions within each per-pair time limit (s): ``ceil(L / dt)`` (module docstring)."""
+    allowed: IntArray = np.ceil(np.asarray(limits, dtype=np.float64) / control_period).astype(
+        np.int64)
+    return allowed
 
 
 def spl(success: BoolArray, shortest: FloatArray, taken: FloatArray) -> FloatArray:

@@ -23,7 +23,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
+from mentor_core.benchmark.scores import decisions_allowed, spl
 from mentor_core.report.bootstrap import paired_interval
 from mentor_core.report.seed_groups import seed_groups
 
@@ -116,7 +118,7 @@ def _best(baselines: list[Mapping[str, Any]], limit: str, family: str,
 
 
 def per_pair(doc: Mapping[str, Any], contender: Mapping[str, Any],
-             limit: str) -> dict[str, np.ndarray] | None:  # fmt: skip
+             limit: str) -> dict[str, NDArray[np.float64]] | None:  # fmt: skip
     """A contender's per-pair success (1 or 0) and SPL term under ``limit``, as its scores
     count them (``benchmark.scores``); None where its results lack what they need or do not
     add up to its scores (a document of an older version)."""
@@ -133,11 +135,9 @@ def per_pair(doc: Mapping[str, Any], contender: Mapping[str, Any],
         shortest = np.array([float(p["shortest"]) for p in doc["pairs"]])
     except (KeyError, TypeError, ValueError):
         return None
-    ok = reached & (steps <= np.ceil(limits / period).astype(np.int64))
-    denom = np.maximum(taken, shortest)
-    credit = np.divide(shortest, denom, out=np.ones_like(shortest), where=denom > 0.0)
-    values = {"success": ok.astype(np.float64), "spl": np.where(ok, credit, 0.0)}
-    families = np.array([p["family"] for p in doc["pairs"]])
+    ok = reached & (steps <= decisions_allowed(limits, period))
+    values = {"success": ok.astype(np.float64), "spl": spl(ok, shortest, taken)}
+    families = _families(doc)
     for family in doc["families"]:
         for key, v in values.items():
             if abs(float(v[families == family].mean()) - _score(contender, limit, family,
@@ -146,13 +146,20 @@ def per_pair(doc: Mapping[str, Any], contender: Mapping[str, Any],
     return values
 
 
-def _interval(doc: Mapping[str, Any], mine: list[dict[str, np.ndarray] | None],
-              theirs: dict[str, np.ndarray] | None, family: str,
+def _families(doc: Mapping[str, Any]) -> NDArray[np.str_]:
+    """The family of each pair of ``doc``."""
+    return np.array([p["family"] for p in doc["pairs"]])
+
+
+def _interval(doc: Mapping[str, Any], families: NDArray[np.str_] | None,
+              mine: dict[str, NDArray[np.float64]] | None,
+              theirs: dict[str, NDArray[np.float64]] | None, family: str,
               key: str) -> tuple[float, float]:  # fmt: skip
-    if theirs is None or any(m is None for m in mine):
+    """The interval of the margin of ``mine`` (the seeds' per-pair mean) over ``theirs`` in
+    ``family`` (``overall``: stratified by family); NaN where either lacks per-pair data."""
+    if families is None or mine is None or theirs is None:
         return math.nan, math.nan
-    families = np.array([p["family"] for p in doc["pairs"]])
-    diff = np.mean([m[key] for m in mine if m is not None], axis=0) - theirs[key]
+    diff = mine[key] - theirs[key]
     chosen = doc["families"] if family == "overall" else [family]
     return paired_interval([diff[families == f] for f in chosen])
 
@@ -203,9 +210,14 @@ def head_to_head(
     planners = dict(groups) | {str(c["name"]): [i] for i, c in enumerate(contenders)
                                if c["kind"] == "evolved" and i not in grouped}
     pairs = {str(c["name"]): per_pair(doc, c, limit) for c in contenders}
+    families = _families(doc) if "pairs" in doc else None  # None: no per-pair data at all
     out: dict[str, list[FamilyMatch]] = {}
     for name, idx in planners.items():
-        mine = [pairs[str(contenders[i]["name"])] for i in idx]
+        seeds = [pairs[str(contenders[i]["name"])] for i in idx]
+        # the seeds' per-pair mean, once a planner (None when a seed lacks per-pair data)
+        mine = None if any(v is None for v in seeds) else {
+            key: np.mean([v[key] for v in seeds if v is not None], axis=0)
+            for key in ("success", "spl")}  # fmt: skip
         rows = []
         for family in [*doc["families"], "overall"]:
             mean = {key: _mean([_score(contenders[i], limit, family, key) for i in idx])
@@ -214,8 +226,9 @@ def head_to_head(
             best_spl, spl_by = bar(family, "spl")
             rows.append(FamilyMatch(
                 family, mean["success"], mean["spl"], best_success, success_by, best_spl,
-                spl_by, _interval(doc, mine, pairs.get(success_by), family, "success"),
-                _interval(doc, mine, pairs.get(spl_by), family, "spl"),
+                spl_by,
+                _interval(doc, families, mine, pairs.get(success_by), family, "success"),
+                _interval(doc, families, mine, pairs.get(spl_by), family, "spl"),
             ))  # fmt: skip
         out[name] = rows
     return out
