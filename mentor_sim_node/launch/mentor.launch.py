@@ -2,13 +2,21 @@
 
     ros2 launch mentor_sim_node mentor.launch.py genome:=bags/regression/ugv_reference_genome.json
     ros2 launch mentor_sim_node mentor.launch.py robots:=ugv_0,ugv_1 lidar_rays:=360 rviz:=true
+    ros2 launch mentor_sim_node mentor.launch.py profiles:=ugv,swarm continuous:=true \
+        genomes:=ugv=planners/ugv-paper-dual-s1.json,swarm=planners/swarm-paper-dual-s1.json \
+        headline:=true
 
-Arguments: ``robots`` (comma-separated namespaces), ``profile`` (of every robot), ``genome``,
-``world`` (a world file; '' : the training world), ``lidar_rays`` (> 0: the planners read the
-simulated lidar instead of the per-sensor scan), ``continuous`` (the simulator runs like
-Gazebo, the planners decide on their own timers), ``real_time_factor``, ``wait_for_goals``
-(robots wait for goals from RViz's "2D Goal Pose" tool), ``rviz`` (start RViz2 with this
-package's config). The pip-only install has no ``launch``: use the ``demo`` executable there.
+Arguments: ``robots`` (comma-separated namespaces), ``profile`` (of every robot), ``genome``
+(of every robot); or ``profiles`` (comma-separated, one robot each, named ``<profile>_<i>``)
+with ``genomes`` (comma-separated ``PROFILE=FILE``; a profile not named plans with its
+regression reference genome); ``headline`` (the planners as ``mentor-bench --deployed`` runs
+them: on their scan map, behind the rotation shim and the collision guard, with their robot's
+gain on the turn), ``world`` (a world file; '' : the training world), ``lidar_rays`` (> 0: the
+planners read the simulated lidar instead of the per-sensor scan), ``continuous`` (the
+simulator runs like Gazebo, the planners decide on their own timers), ``real_time_factor``,
+``wait_for_goals`` (robots wait for goals from RViz's "2D Goal Pose" tool), ``rviz`` (start
+RViz2 with this package's config). The pip-only install has no ``launch``: use the ``demo``
+executable there.
 """
 
 from __future__ import annotations
@@ -21,12 +29,15 @@ from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
-from mentor_core import genome_control_period
+from mentor_core import RobotPlanner, parse_genomes, robot_planners, simulator_period
 
 ARGUMENTS = {
     "robots": "robot_0",
     "profile": "ugv",
     "genome": "bags/regression/ugv_reference_genome.json",
+    "profiles": "",
+    "genomes": "",
+    "headline": "false",
     "world": "",
     "lidar_rays": "0",
     "continuous": "false",
@@ -40,14 +51,28 @@ def _truth(text: str) -> bool:
     return text.strip().lower() in ("1", "true", "yes")
 
 
+def _items(text: str) -> list[str]:
+    return [item.strip() for item in text.split(",") if item.strip()]
+
+
+def _planners(value: dict[str, str], continuous: bool) -> list[RobotPlanner]:
+    """The robots and their planners: of ``profiles``, else ``robots`` all of ``profile``."""
+    headline = _truth(value["headline"])
+    if value["profiles"]:
+        return robot_planners(_items(value["profiles"]), parse_genomes(_items(value["genomes"])),
+                              headline=headline, continuous=continuous)
+    names = _items(value["robots"])
+    genome = {value["profile"]: value["genome"]} if value["genome"] else {}
+    return robot_planners([value["profile"]] * len(names), genome, names=names,
+                          headline=headline, continuous=continuous)
+
+
 def _nodes(context: LaunchContext) -> list[Node]:
     value = {name: LaunchConfiguration(name).perform(context) for name in ARGUMENTS}
-    robots = [r.strip() for r in value["robots"].split(",") if r.strip()]
     rays = int(value["lidar_rays"])
     continuous = _truth(value["continuous"])
     rate = float(value["real_time_factor"]) or (1.0 if continuous else 0.0)
-    # the simulator steps at the period the genome decides at (its metadata; 0: the profile's)
-    period = genome_control_period(value["genome"], value["profile"]) if value["genome"] else 0.0
+    planners = _planners(value, continuous)
     nodes = [
         Node(
             package="mentor_sim_node",
@@ -55,31 +80,27 @@ def _nodes(context: LaunchContext) -> list[Node]:
             name="mentor_sim",
             output="screen",
             parameters=[{
-                "robots": robots,
-                "profiles": [value["profile"]],
+                "robots": [p.namespace for p in planners],
+                "profiles": [p.profile for p in planners],
                 "world": value["world"],
                 "lidar_rays": rays,
                 "continuous": continuous,
                 "real_time_factor": rate,
                 "wait_for_goals": _truth(value["wait_for_goals"]),
-                "control_period": period,
+                # the period the genomes decide at (their metadata); continuous: the shortest
+                "control_period": simulator_period(planners, continuous, "continuous:=true"),
             }],
         )
     ]
-    for ns in robots:
+    for planner in planners:
         nodes.append(
             Node(
                 package="mentor_planner_node",
                 executable="planner",
                 name="mentor_planner",
-                namespace=ns,
+                namespace=planner.namespace,
                 output="screen",
-                parameters=[{
-                    "genome": value["genome"],
-                    "profile": value["profile"],
-                    "use_sim_time": True,
-                    "decide_on_timer": continuous,
-                }],
+                parameters=[{**planner.parameters, "use_sim_time": True}],
                 remappings=[("scan", "lidar/scan")] if rays > 0 else [],
             )
         )

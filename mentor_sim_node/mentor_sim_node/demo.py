@@ -26,7 +26,6 @@ import os
 import sys
 import time
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 DEFAULT_DOMAIN_ID = "42"
@@ -129,51 +128,31 @@ def main(argv: list[str] | None = None) -> None:
     opts = _parser().parse_args(ros_args)
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     os.environ.setdefault("ROS_DOMAIN_ID", DEFAULT_DOMAIN_ID)
-    genomes = {}
-    for item in opts.genome:
-        profile, _, path = item.partition("=")
-        if not path:
-            sys.exit(f"demo: --genome {item!r}: expected PROFILE=FILE")
-        genomes[profile] = path
-    names = [f"{p}_{opts.robots[:i].count(p)}" for i, p in enumerate(opts.robots)]
-    sim = {
-        "robots": names,
-        "profiles": list(opts.robots),
-        "world": opts.world,
-        "scenario_bag": opts.scenario_bag,
-        "seed": opts.seed,
-        "episodes": opts.episodes,
-        "real_time_factor": opts.real_time_factor,
-        "time_limit": opts.time_limit,
-        "record": opts.record,
-    }
     from rclpy.exceptions import ParameterException
 
-    from mentor_core import MentorError, deployed_turn_gain, genome_control_period
-
-    planners = []
-    # the node's parameters for mentor-bench --deployed (mentor_core's contenders.as_deployed)
-    mode = {"scan_map": True, "rotation_shim_deg": 45.0, "collision_guard": True}
-    for name, profile in zip(names, opts.robots, strict=True):
-        genome = genomes.get(profile, f"bags/regression/{profile}_reference_genome.json")
-        if not Path(genome).is_file():
-            sys.exit(f"demo: {genome}: no such genome file (give --genome {profile}=FILE)")
-        deployed = {**mode, "turn_gain": deployed_turn_gain(profile)}
-        values = {"genome": genome, "profile": profile, **(deployed if opts.headline else {})}
-        if opts.continuous:
-            values["decide_on_timer"] = True
-        planners.append((f"/{name}", values))
+    from mentor_core import MentorError, parse_genomes, robot_planners, simulator_period
 
     try:
-        # the simulator steps at the period the genomes decide at (their metadata)
-        periods = {genome_control_period(p["genome"], p["profile"]) for _, p in planners}
-        if len(periods) != 1 and not opts.continuous:
-            sys.exit(f"demo: the genomes decide at different periods {sorted(periods)} s; "
-                     "run them with --continuous")
-        # continuous: each planner keeps its own period, the simulator holds its commands
-        sim["control_period"] = min(periods)
-        sim["continuous"] = opts.continuous
-        outcomes = run_graph(sim, planners, opts.timeout, args=["demo", *all_args])
+        planners = robot_planners(
+            opts.robots, parse_genomes(opts.genome), headline=opts.headline,
+            continuous=opts.continuous,
+        )
+        sim = {
+            "robots": [p.namespace for p in planners],
+            "profiles": list(opts.robots),
+            "world": opts.world,
+            "scenario_bag": opts.scenario_bag,
+            "seed": opts.seed,
+            "episodes": opts.episodes,
+            "real_time_factor": opts.real_time_factor,
+            "time_limit": opts.time_limit,
+            "record": opts.record,
+            # continuous: each planner keeps its own period, the simulator holds its commands
+            "control_period": simulator_period(planners, opts.continuous, "--continuous"),
+            "continuous": opts.continuous,
+        }
+        graph = [(f"/{p.namespace}", p.parameters) for p in planners]
+        outcomes = run_graph(sim, graph, opts.timeout, args=["demo", *all_args])
     except (MentorError, ValueError, ParameterException) as err:
         sys.exit(f"demo: {' '.join(str(err).split())}")
     for o in outcomes:

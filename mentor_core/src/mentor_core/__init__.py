@@ -113,6 +113,10 @@ _EXPORTS: dict[str, str] = {
     "genome_control_period": "mentor_core.runtime.planner",
     "deployed_turn_gain": "mentor_core.runtime.planner",
     "DecisionGate": "mentor_core.runtime.planner",
+    "RobotPlanner": "mentor_core.runtime.robot_graph",
+    "robot_planners": "mentor_core.runtime.robot_graph",
+    "simulator_period": "mentor_core.runtime.robot_graph",
+    "parse_genomes": "mentor_core.runtime.robot_graph",
     "ReferenceSimulator": "mentor_core.runtime.simulator",
     "Event": "mentor_core.runtime.simulator",
     "ScenarioPlan": "mentor_core.runtime.scenario_plan",
@@ -318,6 +322,18 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.recording import (
         EpisodeRecorder as EpisodeRecorder,
+    )
+    from mentor_core.runtime.robot_graph import (
+        RobotPlanner as RobotPlanner,
+    )
+    from mentor_core.runtime.robot_graph import (
+        parse_genomes as parse_genomes,
+    )
+    from mentor_core.runtime.robot_graph import (
+        robot_planners as robot_planners,
+    )
+    from mentor_core.runtime.robot_graph import (
+        simulator_period as simulator_period,
     )
     from mentor_core.runtime.ros_arguments import (
         parameter_fault as parameter_fault,

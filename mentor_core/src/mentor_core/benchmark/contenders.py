@@ -29,7 +29,11 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
-from mentor_core.runtime.planner import deployed_turn_gain, planner_profile
+from mentor_core.runtime.planner import (
+    DEPLOYED_SHIM_DEG,
+    deployed_turn_gain,
+    planner_profile,
+)
 from mentor_core.sim.episode import InputGoals, Policy
 from mentor_core.sim.robots import RobotProfile, with_planner
 from mentor_core.sim.world import Scenario
@@ -108,10 +112,6 @@ def behind_collision_guard(contender: Contender) -> Contender:
     read lately (:mod:`mentor_core.sim.collision_guard`), named ``guard-<name>``."""
     profile = with_planner(contender.profile, collision_guard=True, source="collision guard")
     return dataclasses.replace(contender, name=GUARDED + contender.name, profile=profile)
-
-
-#: the rotation shim's threshold the shipped planners are deployed behind, deg (Nav2's default)
-DEPLOYED_SHIM_DEG = 45.0
 
 
 def as_deployed(

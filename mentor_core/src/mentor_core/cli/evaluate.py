@@ -46,7 +46,6 @@ from typing import Any
 import numpy as np
 
 from mentor_core.atomic import write_json_atomic
-from mentor_core.benchmark.contenders import DEPLOYED_SHIM_DEG
 from mentor_core.cli.arguments import (
     Parser,
     check_deployed,
@@ -66,7 +65,12 @@ from mentor_core.navigation.guide import GuideConfig, guide_config, guided_goals
 from mentor_core.navigation.map_world import load_map_world, load_world_file
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
 from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner
-from mentor_core.runtime.planner import GenomePlanner, deployed_turn_gain, planner_profile
+from mentor_core.runtime.planner import (
+    DEPLOYED_SHIM_DEG,
+    GenomePlanner,
+    deployed_turn_gain,
+    planner_profile,
+)
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner

@@ -121,6 +121,9 @@ def planner_profile(
 #: 89.9 % of its 720 pairs as trained and 90.7 % at 0.75; the UGV's gained nothing.
 DEPLOYED_TURN_GAIN = {"swarm": 0.75}
 
+#: the rotation shim's threshold the shipped planners are deployed behind, deg (Nav2's default)
+DEPLOYED_SHIM_DEG = 45.0
+
 
 def deployed_turn_gain(profile: RobotProfile | str) -> float:
     """The gain on the turn the shipped planners of a robot (a profile or its name) are

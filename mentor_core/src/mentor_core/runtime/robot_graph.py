@@ -1,0 +1,134 @@
+"""The robots of a simulated session and the planner each runs: what the ``demo`` executable
+and ``mentor.launch.py`` both start.
+
+One robot per profile entry, named ``<profile>_<i>`` (``ugv ugv swarm``: ``ugv_0``, ``ugv_1``,
+``swarm_0``), each planning with its profile's genome (``bags/regression/<profile>_reference_
+genome.json`` unless one is given). A *headline* planner runs as ``mentor-bench --deployed``
+scores it (:func:`mentor_core.benchmark.contenders.as_deployed`): on a map of its own scans,
+behind the rotation shim (45 deg) and the collision guard, with its robot's gain on the turn.
+
+The simulator steps at the period the genomes decide at (their metadata). In lockstep every
+genome must decide at the same period; in continuous mode (the simulator runs like Gazebo and
+each planner decides on its own timer) they may differ, and the simulator steps at the
+shortest.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from mentor_core.errors import FileFormatError, MentorError
+from mentor_core.runtime.planner import (
+    DEPLOYED_SHIM_DEG,
+    deployed_turn_gain,
+    genome_control_period,
+)
+
+# the planner node's parameters of mentor-bench --deployed, but for the robot's gain on the turn
+HEADLINE_MODE: dict[str, Any] = {
+    "scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG, "collision_guard": True,
+}  # fmt: skip
+
+
+def default_genome(profile: str) -> str:
+    """The genome a robot of ``profile`` plans with unless told: the regression reference."""
+    return f"bags/regression/{profile}_reference_genome.json"
+
+
+def robot_names(profiles: Sequence[str]) -> list[str]:
+    """One namespace per entry of ``profiles``: ``<profile>_<i>``, ``i`` counting that
+    profile's robots from 0."""
+    return [f"{p}_{profiles[:i].count(p)}" for i, p in enumerate(profiles)]
+
+
+def parse_genomes(items: Iterable[str]) -> dict[str, str]:
+    """``PROFILE=FILE`` items as ``{profile: file}``; MentorError naming an item without
+    ``=``, a profile or a file."""
+    genomes: dict[str, str] = {}
+    for item in items:
+        profile, _, path = (part.strip() for part in item.partition("="))
+        if not (profile and path):
+            raise MentorError(f"genome {item!r}: expected PROFILE=FILE")
+        genomes[profile] = path
+    return genomes
+
+
+@dataclass(frozen=True)
+class RobotPlanner:
+    """One robot of the session and the planner node's parameters for it.
+
+    Attributes:
+        namespace: the robot's namespace, without the leading slash.
+        profile: the robot profile's name.
+        genome: the genome file the planner loads.
+        parameters: the planner node's parameters (``genome`` and ``profile`` among them).
+    """
+
+    namespace: str
+    profile: str
+    genome: str
+    parameters: dict[str, Any] = field(default_factory=dict)
+
+
+def robot_planners(
+    profiles: Sequence[str],
+    genomes: Mapping[str, str] | None = None,
+    *,
+    names: Sequence[str] | None = None,
+    headline: bool = False,
+    continuous: bool = False,
+) -> list[RobotPlanner]:
+    """The robots of ``profiles`` (one each) and their planners' parameters (module
+    docstring).
+
+    Args:
+        profiles: one profile name per robot.
+        genomes: genome file per profile; a profile not in it plans with
+            :func:`default_genome`.
+        names: the robots' namespaces (default :func:`robot_names`).
+        headline: run the planners as the benchmark's headline planners.
+        continuous: the planners decide on their own timers (``decide_on_timer``).
+
+    Raises MentorError for no robot, a count of names that does not match, a genome given for
+    a profile no robot has, or a genome file that does not exist.
+    """
+    given = dict(genomes or {})
+    spare = sorted(set(given) - set(profiles))
+    if not profiles:
+        raise MentorError("no robot: give at least one profile")
+    if spare:
+        raise MentorError(f"a genome for {', '.join(spare)}, but no robot of that profile "
+                          f"(robots: {', '.join(profiles)})")  # fmt: skip
+    spaces = robot_names(profiles) if names is None else [n.strip("/") for n in names]
+    if len(spaces) != len(profiles):
+        raise MentorError(f"{len(spaces)} robot names for {len(profiles)} profiles")
+    planners = []
+    for name, profile in zip(spaces, profiles, strict=True):
+        genome = given.get(profile, default_genome(profile))
+        if not Path(genome).is_file():
+            raise FileFormatError(genome, f"no such genome file (give one for {profile})")
+        values: dict[str, Any] = {"genome": genome, "profile": profile}
+        if headline:
+            values.update(HEADLINE_MODE, turn_gain=deployed_turn_gain(profile))
+        if continuous:
+            values["decide_on_timer"] = True
+        planners.append(RobotPlanner(name, profile, genome, values))
+    return planners
+
+
+def simulator_period(
+    planners: Sequence[RobotPlanner], continuous: bool, continuous_hint: str = "continuous mode"
+) -> float:
+    """The simulator's control period (s): the one period the genomes decide at, or with
+    ``continuous`` the shortest. MentorError (naming ``continuous_hint``, the way to run
+    them) when genomes of different periods would share a lockstep simulator, and the genome
+    files' errors (:func:`~mentor_core.runtime.planner.genome_control_period`)."""
+    periods = {genome_control_period(p.genome, p.profile) for p in planners}
+    if len(periods) > 1 and not continuous:
+        shown = ", ".join(f"{v:g}" for v in sorted(periods))
+        raise MentorError(f"the genomes decide at different periods ({shown} s); run them "
+                          f"with {continuous_hint}")  # fmt: skip
+    return min(periods)
