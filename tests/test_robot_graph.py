@@ -48,8 +48,10 @@ def test_genomes_are_given_per_profile() -> None:
 def test_each_robot_plans_with_its_profiles_genome_or_the_reference() -> None:
     planners = robot_planners(["ugv", "swarm", "ugv"], {"ugv": UGV})
     assert [(p.namespace, p.profile, p.genome) for p in planners] == [
-        ("ugv_0", "ugv", UGV), ("swarm_0", "swarm", default_genome("swarm")), ("ugv_1", "ugv", UGV),
-    ]  # fmt: skip
+        ("ugv_0", "ugv", UGV),
+        ("swarm_0", "swarm", default_genome("swarm")),
+        ("ugv_1", "ugv", UGV),
+    ]
     assert planners[1].parameters == {"genome": default_genome("swarm"), "profile": "swarm"}
     named = robot_planners(["ugv", "ugv"], names=["/left", "right"], continuous=True)
     assert [p.namespace for p in named] == ["left", "right"]
@@ -73,6 +75,8 @@ def test_headline_planners_run_as_the_benchmark_scores_them(robot: str, genome: 
 def test_a_bad_robot_list_is_refused_in_one_line(tmp_path: Path) -> None:
     with pytest.raises(MentorError, match="no robot"):
         robot_planners([])
+    with pytest.raises(MentorError, match="tank"):
+        robot_planners(["ugv", "tank"])
     with pytest.raises(MentorError, match="a genome for swarm, but no robot of that profile"):
         robot_planners(["ugv"], {"swarm": SWARM})
     with pytest.raises(MentorError, match="1 robot names for 2 profiles"):

@@ -26,6 +26,7 @@ from mentor_core.runtime.planner import (
     deployed_turn_gain,
     genome_control_period,
 )
+from mentor_core.sim.robots import get_profile
 
 # the planner node's parameters of mentor-bench --deployed, but for the robot's gain on the turn
 HEADLINE_MODE: dict[str, Any] = {
@@ -92,8 +93,8 @@ def robot_planners(
         headline: run the planners as the benchmark's headline planners.
         continuous: the planners decide on their own timers (``decide_on_timer``).
 
-    Raises MentorError for no robot, a count of names that does not match, a genome given for
-    a profile no robot has, or a genome file that does not exist.
+    Raises MentorError for no robot, an unknown profile, a count of names that does not
+    match, a genome given for a profile no robot has, or a genome file that does not exist.
     """
     given = dict(genomes or {})
     spare = sorted(set(given) - set(profiles))
@@ -107,6 +108,7 @@ def robot_planners(
         raise MentorError(f"{len(spaces)} robot names for {len(profiles)} profiles")
     planners = []
     for name, profile in zip(spaces, profiles, strict=True):
+        get_profile(profile)  # an unknown one: ConfigError naming the known ones
         genome = given.get(profile, default_genome(profile))
         if not Path(genome).is_file():
             raise FileFormatError(genome, f"no such genome file (give one for {profile})")
