@@ -29,17 +29,12 @@ map, with ``scan_map`` along a plan on a map of its own scans, which it publishe
 from __future__ import annotations
 
 import math
-import sys
 from typing import Any
 
-import rclpy
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
-from rclpy.exceptions import NameValidationException, ParameterException
-from rclpy.executors import ExternalShutdownException
-from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import (
@@ -58,14 +53,13 @@ from mentor_core import (
     Bounds,
     DecisionGate,
     GenomePlanner,
-    MentorError,
     PlannerFrames,
     Transform2D,
     bounds_fault,
-    parameter_fault,
     readings_from_scan,
 )
 from mentor_planner_node import conversions, global_plan
+from mentor_planner_node.node_main import run_node
 from mentor_planner_node.params import (
     PlannerSetupError,
     check_goal_radius,
@@ -360,26 +354,4 @@ class PlannerNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown; a bad setup is one line on stderr and exit status 2."""
-    fault = parameter_fault(sys.argv if args is None else args)
-    if fault:
-        print(f"mentor_planner: bad ROS arguments: {fault}", file=sys.stderr)
-        sys.exit(2)
-    try:
-        rclpy.init(args=args)
-    except rclpy_implementation.RCLError as err:  # other arguments rcl cannot parse
-        text = " ".join(str(err).split()).split(", at /")[0]
-        print(f"mentor_planner: bad ROS arguments: {text}", file=sys.stderr)
-        sys.exit(2)
-    try:
-        node = PlannerNode()
-    except (MentorError, ValueError, ParameterException, NameValidationException) as err:
-        print(f"mentor_planner: {' '.join(str(err).split())}", file=sys.stderr)
-        rclpy.try_shutdown()
-        sys.exit(2)
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    run_node("mentor_planner", PlannerNode, args)

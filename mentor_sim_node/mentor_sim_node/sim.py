@@ -20,33 +20,27 @@ grid on ``/map`` (:func:`mentor_core.source_map`).
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from typing import Any
 
-import rclpy
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
-from rclpy.exceptions import NameValidationException, ParameterException
-from rclpy.executors import ExternalShutdownException
-from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
 
 from mentor_core import (
     EpisodeRecorder,
-    MentorError,
     OccupancyGrid,
     Outcome,
     SimSession,
     load_scenario_source,
-    parameter_fault,
     source_map,
 )
 from mentor_planner_node.conversions import occupancy_grid_msg
+from mentor_planner_node.node_main import run_node
 from mentor_sim_node import conversions
 from mentor_sim_node.params import SimSetupError, check_runtime, declare_parameters
 from mentor_sim_node.topics import QOS_COMMAND, QOS_LATCHED, Topics, subscribe_goals
@@ -262,27 +256,4 @@ class SimNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown; a bad setup is one line on stderr and exit status 2."""
-    fault = parameter_fault(sys.argv if args is None else args)
-    if fault:
-        print(f"mentor_sim: bad ROS arguments: {fault}", file=sys.stderr)
-        sys.exit(2)
-    try:
-        rclpy.init(args=args)
-    except rclpy_implementation.RCLError as err:  # other arguments rcl cannot parse
-        text = " ".join(str(err).split()).split(", at /")[0]
-        print(f"mentor_sim: bad ROS arguments: {text}", file=sys.stderr)
-        sys.exit(2)
-    try:
-        node = SimNode()
-    except (MentorError, ValueError, ParameterException, NameValidationException) as err:
-        print(f"mentor_sim: {' '.join(str(err).split())}", file=sys.stderr)
-        rclpy.try_shutdown()
-        sys.exit(2)
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-
+    run_node("mentor_sim", SimNode, args)
