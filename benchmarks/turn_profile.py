@@ -10,11 +10,11 @@ path on the pairs every planner reaches (mean and median), and the heading chang
 decision along the successful runs (median, and the share at 40 deg or more, near the
 +-45 deg limit). A planner that swings its full turn at most decisions zig-zags; a
 proportional one turns a little at most. For the evolved planners it also reports how the
-network's turn follows the bearing of the goal it sees where nothing is read within 2 m (the
-slope of turn over bearing for bearings within 30 deg: 1 turns onto the carrot in one
-decision, 2 overshoots it by as much) and the share of full turns where the nearest reading
-is within 2 m. ``benchmarks/RESULTS.md``,
-"Turning onto the carrot" (2026-12-04).
+network's turns split by whether anything is read within 2 m: the share of decisions with a
+reading that near, the share of full turns with and without one, and where nothing is that
+near, the slope of the turn over the bearing of the goal the network sees (bearings within
+30 deg; 1 turns onto the carrot in one decision, 2 overshoots it by as much).
+``benchmarks/RESULTS.md``, "Where the UGV's full turns come from" (2026-12-04).
 """
 
 from __future__ import annotations
@@ -70,19 +70,20 @@ def heading_changes(trajectories: Sequence[np.ndarray], ok: np.ndarray) -> np.nd
 
 
 def network_turns(log: list[tuple[np.ndarray, np.ndarray]], n_sensors: int,
-                  limit_deg: float) -> tuple[float, float]:  # fmt: skip
-    """(slope of the network's turn over the goal's bearing within 30 deg where nothing is
-    read within 2 m, share of full turns with the nearest reading within 2 m) over the
-    logged decisions."""
+                  limit_deg: float) -> tuple[float, float, float, float]:  # fmt: skip
+    """Over the logged decisions: the share with a reading within 2 m; the share of full
+    turns among those and among the others; the slope of the network's turn over the goal's
+    bearing (within 30 deg) where nothing is read within 2 m."""
     x = np.concatenate([i for i, _ in log])
     o = np.concatenate([out for _, out in log])
     bearing = np.degrees(np.arctan2(x[:, n_sensors + 1], x[:, n_sensors]))
     turn = limit_deg * (2.0 * np.clip(o[:, 0], 0.0, 1.0) - 1.0)
     near = x[:, :n_sensors].min(axis=1) < 2.0
+    full = np.abs(turn) >= FULL_TURN_DEG
     small = (np.abs(bearing) <= 30.0) & ~near
     slope = float(np.polyfit(bearing[small], turn[small], 1)[0]) if small.sum() > 2 else math.nan
-    full = np.abs(turn) >= FULL_TURN_DEG
-    return slope, float(np.mean(near[full])) if full.any() else math.nan
+    open_full = float(np.mean(full[~near])) if (~near).any() else math.nan
+    return float(np.mean(near)), float(np.mean(full[near])), open_full, slope
 
 
 def main() -> None:
@@ -120,10 +121,11 @@ def main() -> None:
                 f"% at {FULL_TURN_DEG:g} deg or more")  # fmt: skip
         if name in logs:
             profile = planners[name].profile
-            slope, near = network_turns(logs[name], profile.n_sensors,
-                                        math.degrees(profile.heading_change_max))
-            line += (f"; turn / bearing slope in the open {slope:.2f}, full turns near "
-                     f"(< 2 m) {near:.2f}")
+            near, full_near, full_open, slope = network_turns(
+                logs[name], profile.n_sensors, math.degrees(profile.heading_change_max))
+            line += (f"; network: {100 * near:.0f} % of decisions with a reading within 2 m, "
+                     f"full turns at {100 * full_near:.0f} % of those and {100 * full_open:.0f} "
+                     f"% of the others; turn / bearing in the open {slope:.2f}")  # fmt: skip
         print(line, flush=True)
 
 
