@@ -23,7 +23,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.sim.kinematics import unicycle_arc, wrap_angle
-from mentor_core.sim.observation import CLEARANCE_CONE, actions_from_outputs
+from mentor_core.sim.observation import (
+    CLEARANCE_CONE,
+    actions_from_outputs,
+    ranges_from_inputs,
+)
 from mentor_core.sim.robots import RobotProfile
 
 FloatArray = NDArray[np.float64]
@@ -48,7 +52,7 @@ def outputs_for(dtheta: ArrayLike, ds: ArrayLike, profile: RobotProfile) -> Floa
 
 def readings(inputs: ArrayLike, profile: RobotProfile) -> FloatArray:
     """The clipped range readings ``(m, k)`` (m) in network inputs ``(m, n_inputs)``."""
-    return np.asarray(inputs, dtype=np.float64)[:, : profile.n_sensors]
+    return ranges_from_inputs(inputs, profile)
 
 
 def goal_polar(inputs: ArrayLike, profile: RobotProfile) -> tuple[FloatArray, FloatArray]:

@@ -54,6 +54,8 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         **({} if profile.rotation_shim is None else {"rotation_shim": profile.rotation_shim}),
         **({"collision_guard": True} if profile.collision_guard else {}),
         **({} if profile.turn_gain == 1.0 else {"turn_gain": profile.turn_gain}),
+        **({} if profile.proximity_scale is None
+           else {"proximity_scale": profile.proximity_scale}),
         "control_period": profile.control_period,
     }
 

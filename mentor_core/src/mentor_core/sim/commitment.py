@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from mentor_core.sim.observation import clearance_limit
+from mentor_core.sim.observation import clearance_limit, ranges_from_inputs
 from mentor_core.sim.robots import RobotProfile
 
 FloatArray = NDArray[np.float64]
@@ -36,7 +36,7 @@ class TurnCommitment:
         out = np.array(outputs, dtype=np.float64, copy=True)
         turn = np.clip(out[:, 0], 0.0, 1.0)
         dtheta = p.heading_change_max * (2.0 * turn - 1.0)
-        blocked = clearance_limit(inputs[:, : p.n_sensors], dtheta, p) <= p.step_min
+        blocked = clearance_limit(ranges_from_inputs(inputs, p), dtheta, p) <= p.step_min
         flip = blocked & ((turn - 0.5) * (self.previous[robots] - 0.5) < 0.0)
         out[flip, 0] = 1.0 - turn[flip]
         self.previous[robots] = out[:, 0]

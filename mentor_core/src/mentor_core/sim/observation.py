@@ -15,6 +15,18 @@ the genome's metadata by ``robots.with_planner``):
   the goal), bounded near the goal and scaled to magnitude <= 1 (see :func:`signal_gradient`).
 * ``theta``: global heading, rad, wrapped to ``(-pi, pi]``.
 
+A planner with a proximity scale (``RobotProfile.proximity_scale``, ``lambda`` m; not in the
+paper) reads each ``U_i`` as a proximity instead (:func:`range_inputs`)::
+
+    U_i = exp(-r_i / lambda)
+
+1 at contact, ``e^-1`` at ``lambda``, near 0 for what lies far and ``exp(-sensor_range /
+lambda)`` for nothing seen. Why: in metres a reading at 3 m moves an input as much as one
+at 1 m does, and NEAT's steep sigmoid turns either into a full turn, so the UGV's planners
+zig-zag wherever their 4 m sensors read anything (``benchmarks/RESULTS.md``, "Where the UGV's
+full turns come from"); a proximity leaves what is far nearly unseen and what is near
+salient.
+
 ``"egocentric"`` (the shipped training configs)::
 
     [U_1 .. U_k, cos beta, sin beta, S]
@@ -84,6 +96,26 @@ def clip_ranges(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
     return np.minimum(r, profile.sensor_range)
 
 
+def range_inputs(ranges: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """The sensor inputs ``U`` (n, k) of readings (n, k) in m: :func:`clip_ranges`, or with
+    the profile's proximity scale ``lambda`` the proximities ``exp(-r / lambda)`` of the
+    clipped readings (module docstring). The same errors as :func:`clip_ranges`."""
+    u = clip_ranges(ranges, profile)
+    scale = profile.proximity_scale
+    return u if scale is None else np.exp(-u / scale)
+
+
+def ranges_from_inputs(inputs: ArrayLike, profile: RobotProfile) -> FloatArray:
+    """The clipped readings (m, k) (m) that network inputs (m, >= k) were made of: the
+    inverse of :func:`range_inputs`, for rules that act on the readings a network saw."""
+    u = np.asarray(inputs, dtype=np.float64)[:, : profile.n_sensors]
+    scale = profile.proximity_scale
+    if scale is None:
+        return u
+    with np.errstate(divide="ignore"):
+        return np.minimum(-scale * np.log(u), profile.sensor_range)
+
+
 def signal_gradient(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> FloatArray:
     """Bounded, scaled gradient (n, 2) of the goal signal ``S = 1 / d`` in the map frame.
 
@@ -114,8 +146,8 @@ def network_inputs(
     ranges: ArrayLike, poses: ArrayLike, goals: ArrayLike, profile: RobotProfile,
     context: ArrayLike | None = None,
 ) -> FloatArray:
-    """Network inputs (n, ``profile.n_inputs``) = ``[clipped ranges, dX, dY, theta, context]``
-    (module docstring).
+    """Network inputs (n, ``profile.n_inputs``) = ``[range inputs, dX, dY, theta, context]``
+    (module docstring; the range inputs of :func:`range_inputs`).
 
     Args:
         ranges: (n, k) sensor readings, m, in the profile's sensor order; +inf = nothing seen.
@@ -129,7 +161,7 @@ def network_inputs(
     Raises ValueError for NaN or negative readings, non-finite poses or goals, or shapes that
     do not match.
     """
-    u = clip_ranges(ranges, profile)
+    u = range_inputs(ranges, profile)
     p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
     g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
     if p.shape != (u.shape[0], 3) or g.shape != (u.shape[0], 2):

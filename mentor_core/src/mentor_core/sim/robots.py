@@ -117,6 +117,9 @@ class RobotProfile:
         turn_gain: the network's turn output is scaled by this gain about its middle, in
             ``(0, 1]`` (:mod:`mentor_core.sim.turn_gain`); 1 in the paper. A deployment
             option, never trained with.
+        proximity_scale: when set, the network reads each range as the proximity
+            ``exp(-r / proximity_scale)`` (m; :func:`mentor_core.sim.observation.range_inputs`)
+            instead of ``r`` in m, as in the paper (None). A planner's setting.
     """
 
     name: str
@@ -145,6 +148,7 @@ class RobotProfile:
     rotation_shim: float | None = None
     collision_guard: bool = False
     turn_gain: float = 1.0
+    proximity_scale: float | None = None
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:
@@ -287,6 +291,7 @@ def with_planner(
     control_period: object = None,
     collision_guard: object = None,
     turn_gain: object = None,
+    proximity_scale: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
@@ -297,8 +302,10 @@ def with_planner(
     :func:`mentor_core.sim.observation.next_context`) and its rotation shim's threshold (rad,
     in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`), its control period (s, in
     ``(0, profile.control_period]``), whether a collision guard vets its decisions (a
-    bool; :mod:`mentor_core.sim.collision_guard`) and the gain on its turn (in ``(0, 1]``;
-    :mod:`mentor_core.sim.turn_gain`) replaced where given (None keeps the profile's).
+    bool; :mod:`mentor_core.sim.collision_guard`), the gain on its turn (in ``(0, 1]``;
+    :mod:`mentor_core.sim.turn_gain`) and its proximity scale (m, > 0;
+    :func:`mentor_core.sim.observation.range_inputs`) replaced where given (None keeps the
+    profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
@@ -377,6 +384,11 @@ def with_planner(
         changes["turn_gain"] = _planner_number(
             turn_gain, lambda v: 0.0 < v <= 1.0, "(0, 1]", "turn_gain", where
         )
+    if proximity_scale is not None:
+        changes["proximity_scale"] = _planner_number(
+            proximity_scale, lambda v: 0.0 < v < math.inf, "(0, inf) m", "proximity_scale",
+            where,
+        )  # fmt: skip
     return dataclasses.replace(profile, **changes)
 
 

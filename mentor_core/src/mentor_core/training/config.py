@@ -140,6 +140,10 @@ class TrainerConfig:
     step_min: Annotated[Float, Field(ge=0.0)] | None = None
     """The planner's smallest step, m, in [0, step_max] (null: the robot's, 0.1 m as in the
     paper); also written into the metadata."""
+    proximity_scale: Annotated[Float, Field(gt=0.0)] | None = None
+    """When set, the network reads each range r as the proximity exp(-r / proximity_scale), m
+    (mentor_core.sim.observation.range_inputs; null: r in m, as in the paper), so that what
+    lies far moves its inputs little; also written into the metadata."""
     clearance_margin: Annotated[Float, Field(ge=0.0)] | None = None
     """When set, every step is shortened to the free range read ahead less this margin, m
     (mentor_core.sim.observation.clearance_limit; null: no such limit, as in the paper); also
@@ -223,6 +227,7 @@ class TrainerConfig:
             "memory_units": self.memory_units,
             "rotation_shim": None if shim is None else math.radians(shim),
             "control_period": self.control_period,
+            "proximity_scale": self.proximity_scale,
         }
 
     def to_dict(self) -> dict[str, Any]:

@@ -60,6 +60,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
     "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None, "control_period": None,
+    "proximity_scale": None,
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -366,6 +367,8 @@ def _write_final_files(
                else {"rotation_shim": profile.rotation_shim}),
             **({} if config.control_period is None
                else {"control_period": profile.control_period}),
+            **({} if profile.proximity_scale is None
+               else {"proximity_scale": profile.proximity_scale}),
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,
