@@ -38,6 +38,8 @@ from mentor_core.benchmark.contenders import (
 from mentor_core.benchmark.runner import run_family
 from mentor_core.benchmark.scores import under_limit
 from mentor_core.benchmark.suite import PAPER_LIMIT, build_suite, shipped_limits
+from mentor_core.sim.observation import ranges_from_inputs
+from mentor_core.sim.robots import RobotProfile
 
 FULL_TURN_DEG = 40.0
 
@@ -69,16 +71,17 @@ def heading_changes(trajectories: Sequence[np.ndarray], ok: np.ndarray) -> np.nd
     return np.concatenate(parts) if parts else np.zeros(0)
 
 
-def network_turns(log: list[tuple[np.ndarray, np.ndarray]], n_sensors: int,
-                  limit_deg: float) -> tuple[float, float, float, float]:  # fmt: skip
+def network_turns(log: list[tuple[np.ndarray, np.ndarray]],
+                  profile: RobotProfile) -> tuple[float, float, float, float]:  # fmt: skip
     """Over the logged decisions: the share with a reading within 2 m; the share of full
     turns among those and among the others; the slope of the network's turn over the goal's
     bearing (within 30 deg) where nothing is read within 2 m."""
     x = np.concatenate([i for i, _ in log])
     o = np.concatenate([out for _, out in log])
-    bearing = np.degrees(np.arctan2(x[:, n_sensors + 1], x[:, n_sensors]))
-    turn = limit_deg * (2.0 * np.clip(o[:, 0], 0.0, 1.0) - 1.0)
-    near = x[:, :n_sensors].min(axis=1) < 2.0
+    k = profile.n_sensors
+    bearing = np.degrees(np.arctan2(x[:, k + 1], x[:, k]))
+    turn = math.degrees(profile.heading_change_max) * (2.0 * np.clip(o[:, 0], 0.0, 1.0) - 1.0)
+    near = ranges_from_inputs(x, profile).min(axis=1) < 2.0  # in m, whatever the encoding
     full = np.abs(turn) >= FULL_TURN_DEG
     small = (np.abs(bearing) <= 30.0) & ~near
     slope = float(np.polyfit(bearing[small], turn[small], 1)[0]) if small.sum() > 2 else math.nan
@@ -121,8 +124,7 @@ def main() -> None:
                 f"% at {FULL_TURN_DEG:g} deg or more")  # fmt: skip
         if name in logs:
             profile = planners[name].profile
-            near, full_near, full_open, slope = network_turns(
-                logs[name], profile.n_sensors, math.degrees(profile.heading_change_max))
+            near, full_near, full_open, slope = network_turns(logs[name], profile)
             line += (f"; network: {100 * near:.0f} % of decisions with a reading within 2 m, "
                      f"full turns at {100 * full_near:.0f} % of those and {100 * full_open:.0f} "
                      f"% of the others; turn / bearing in the open {slope:.2f}")  # fmt: skip
