@@ -21,11 +21,11 @@ paper) reads each ``U_i`` as a proximity instead (:func:`range_inputs`)::
     U_i = exp(-r_i / lambda)
 
 1 at contact, ``e^-1`` at ``lambda``, near 0 for what lies far and ``exp(-sensor_range /
-lambda)`` for nothing seen. Why: in metres a reading at 3 m moves an input as much as one
-at 1 m does, and NEAT's steep sigmoid turns either into a full turn, so the UGV's planners
-zig-zag wherever their 4 m sensors read anything (``benchmarks/RESULTS.md``, "Where the UGV's
-full turns come from"); a proximity leaves what is far nearly unseen and what is near
-salient.
+lambda)`` for nothing seen. Why: in metres a tree that comes into view 3 m away already
+moves its input by a quarter of the input's range, and NEAT's steep sigmoid turns that into
+a full turn, so the UGV's planners zig-zag wherever their 4 m sensors read anything
+(``benchmarks/RESULTS.md``, "Where the UGV's full turns come from"); a proximity leaves what
+is far nearly unseen and what is near salient.
 
 ``"egocentric"`` (the shipped training configs)::
 
