@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> None:
         )
         sim = {
             "robots": [p.namespace for p in planners],
-            "profiles": list(opts.robots),
+            "profiles": [p.profile for p in planners],
             "world": opts.world,
             "scenario_bag": opts.scenario_bag,
             "seed": opts.seed,

@@ -65,13 +65,18 @@ class RobotPlanner:
         namespace: the robot's namespace, without the leading slash.
         profile: the robot profile's name.
         genome: the genome file the planner loads.
-        parameters: the planner node's parameters (``genome`` and ``profile`` among them).
+        options: the planner node's other parameters (the headline mode, the timer).
     """
 
     namespace: str
     profile: str
     genome: str
-    parameters: dict[str, Any] = field(default_factory=dict)
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def parameters(self) -> dict[str, Any]:
+        """The planner node's parameters: ``genome``, ``profile`` and the options."""
+        return {"genome": self.genome, "profile": self.profile, **self.options}
 
 
 def robot_planners(
@@ -112,12 +117,12 @@ def robot_planners(
         genome = given.get(profile, default_genome(profile))
         if not Path(genome).is_file():
             raise FileFormatError(genome, f"no such genome file (give one for {profile})")
-        values: dict[str, Any] = {"genome": genome, "profile": profile}
+        options: dict[str, Any] = {}
         if headline:
-            values.update(HEADLINE_MODE, turn_gain=deployed_turn_gain(profile))
+            options.update(HEADLINE_MODE, turn_gain=deployed_turn_gain(profile))
         if continuous:
-            values["decide_on_timer"] = True
-        planners.append(RobotPlanner(name, profile, genome, values))
+            options["decide_on_timer"] = True
+        planners.append(RobotPlanner(name, profile, genome, options))
     return planners
 
 
