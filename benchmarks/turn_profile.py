@@ -5,15 +5,16 @@
 
 Each genome runs as ``mentor-bench --deployed`` runs it (its scan map, the rotation shim, the
 collision guard, its robot's gain on the turn); Bug2 on its scan map behind the guard, at the
-shipped planners' action limits. For each: success within 50 s, the path over the shortest
-path on the pairs every planner reaches (mean and median), and the heading change per
-decision along the successful runs (median, and the share at 40 deg or more, near the
-+-45 deg limit). A planner that swings its full turn at most decisions zig-zags; a
-proportional one turns a little at most. For the evolved planners it also reports how the
-network's turns split by whether anything is read within 2 m: the share of decisions with a
-reading that near, the share of full turns with and without one, and where nothing is that
-near, the slope of the turn over the bearing of the goal the network sees (bearings within
-30 deg; 1 turns onto the carrot in one decision, 2 overshoots it by as much).
+shipped planners' action limits. For each: success within 50 s, the path over the shortest path
+on the pairs every planner reaches (mean and median), and the heading change per decision along
+the successful runs (median, and the share at 40 deg or more, near the +-45 deg limit). A
+planner that swings its full turn at most decisions zig-zags; a proportional one turns a little
+at most. For the evolved planners it also reports how the network's turns split by whether
+anything is read near (within 2 m, or for a robot whose sensors reach less, anything read at
+all): the share of decisions with a reading that near, the share of full turns with and without
+one, and where nothing is that near, the slope of the turn over the bearing of the goal the
+network sees (bearings within 30 deg; 1 turns onto the carrot in one decision, 2 overshoots it
+by as much).
 ``benchmarks/RESULTS.md``, "Where the UGV's full turns come from" (2026-12-04).
 """
 
@@ -71,17 +72,23 @@ def heading_changes(trajectories: Sequence[np.ndarray], ok: np.ndarray) -> np.nd
     return np.concatenate(parts) if parts else np.zeros(0)
 
 
+def near_range(profile: RobotProfile) -> float:
+    """What counts as near, m: 2 m, or just under the sensors' range where they reach less
+    (the Swarm-Robot's 0.6 m), so that "near" means anything read at all."""
+    return min(2.0, 0.99 * profile.sensor_range)
+
+
 def network_turns(log: list[tuple[np.ndarray, np.ndarray]],
                   profile: RobotProfile) -> tuple[float, float, float, float]:  # fmt: skip
-    """Over the logged decisions: the share with a reading within 2 m; the share of full
-    turns among those and among the others; the slope of the network's turn over the goal's
-    bearing (within 30 deg) where nothing is read within 2 m."""
+    """Over the logged decisions: the share with a reading near (:func:`near_range`); the
+    share of full turns among those and among the others; the slope of the network's turn
+    over the goal's bearing (within 30 deg) where nothing is read that near."""
     x = np.concatenate([i for i, _ in log])
     o = np.concatenate([out for _, out in log])
     k = profile.n_sensors
     bearing = np.degrees(np.arctan2(x[:, k + 1], x[:, k]))
     turn = math.degrees(profile.heading_change_max) * (2.0 * np.clip(o[:, 0], 0.0, 1.0) - 1.0)
-    near = ranges_from_inputs(x, profile).min(axis=1) < 2.0  # in m, whatever the encoding
+    near = ranges_from_inputs(x, profile).min(axis=1) < near_range(profile)  # m, any encoding
     full = np.abs(turn) >= FULL_TURN_DEG
     small = (np.abs(bearing) <= 30.0) & ~near
     slope = float(np.polyfit(bearing[small], turn[small], 1)[0]) if small.sum() > 2 else math.nan
@@ -125,7 +132,8 @@ def main() -> None:
         if name in logs:
             profile = planners[name].profile
             near, full_near, full_open, slope = network_turns(logs[name], profile)
-            line += (f"; network: {100 * near:.0f} % of decisions with a reading within 2 m, "
+            line += (f"; network: {100 * near:.0f} % of decisions with a reading within "
+                     f"{near_range(profile):.2g} m, "
                      f"full turns at {100 * full_near:.0f} % of those and {100 * full_open:.0f} "
                      f"% of the others; turn / bearing in the open {slope:.2f}")  # fmt: skip
         print(line, flush=True)
