@@ -1,7 +1,8 @@
 """Which robots a simulated session starts and the planner each runs
 (``mentor_core.runtime.robot_graph``), shared by the ``demo`` executable and
-``mentor.launch.py``; and the launch file's own use of it, run here with stand-ins for
-``launch`` (no PyPI wheel), so that its logic runs on a pip-only machine too."""
+``mentor.launch.py``; and the launch files' own use of it (``mentor.launch.py``,
+``planner.launch.py``), run here with stand-ins for ``launch`` (no PyPI wheel), so that
+their logic runs on a pip-only machine too."""
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from mentor_core import FileFormatError, MentorError, get_profile
 from mentor_core.benchmark.contenders import as_deployed, evolved
 from mentor_core.runtime.robot_graph import (
     default_genome,
+    headline_parameters,
     parse_genomes,
     robot_names,
     robot_planners,
@@ -96,7 +98,7 @@ def test_the_simulator_steps_at_the_genomes_period() -> None:
         simulator_period(both, continuous=False, continuous_hint="-c")
 
 
-# --- mentor.launch.py with stand-ins for launch, launch_ros and ament_index_python ----------
+# --- the launch files with stand-ins for launch, launch_ros and ament_index_python ---------
 
 
 class _Config:
@@ -118,8 +120,13 @@ def _module(name: str, **attrs: Any) -> types.ModuleType:
     return module
 
 
-@pytest.fixture()
-def launch_file(monkeypatch: pytest.MonkeyPatch) -> types.ModuleType:
+class _Value:
+    def __init__(self, value: Any, value_type: type | None = None) -> None:
+        self.value, self.value_type = value, value_type
+
+
+def _load(monkeypatch: pytest.MonkeyPatch, package: str, file: str) -> types.ModuleType:
+    """The launch file ``<package>/launch/<file>`` run with the stand-ins."""
     stubs = {
         "launch": _module("launch", LaunchContext=dict, LaunchDescription=list),
         "launch.actions": _module("launch.actions", DeclareLaunchArgument=object,
@@ -127,18 +134,30 @@ def launch_file(monkeypatch: pytest.MonkeyPatch) -> types.ModuleType:
         "launch.substitutions": _module("launch.substitutions", LaunchConfiguration=_Config),
         "launch_ros": _module("launch_ros"),
         "launch_ros.actions": _module("launch_ros.actions", Node=_Node),
+        "launch_ros.parameter_descriptions": _module("launch_ros.parameter_descriptions",
+                                                     ParameterValue=_Value),
         "ament_index_python": _module("ament_index_python"),
         "ament_index_python.packages": _module("ament_index_python.packages",
                                                get_package_share_directory=str),
     }  # fmt: skip
     for name, stub in stubs.items():
         monkeypatch.setitem(sys.modules, name, stub)
-    path = ROOT / "mentor_sim_node" / "launch" / "mentor.launch.py"
-    spec = importlib.util.spec_from_file_location("mentor_launch_under_test", path)
+    path = ROOT / package / "launch" / file
+    spec = importlib.util.spec_from_file_location(f"{package}_launch_under_test", path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+@pytest.fixture()
+def launch_file(monkeypatch: pytest.MonkeyPatch) -> types.ModuleType:
+    return _load(monkeypatch, "mentor_sim_node", "mentor.launch.py")
+
+
+@pytest.fixture()
+def planner_launch_file(monkeypatch: pytest.MonkeyPatch) -> types.ModuleType:
+    return _load(monkeypatch, "mentor_planner_node", "planner.launch.py")
 
 
 def _launch(module: types.ModuleType, **arguments: str) -> list[dict[str, Any]]:
@@ -177,3 +196,27 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     assert values["genome"] == SWARM and values["decide_on_timer"] is True
     assert values["scan_map"] is True and values["turn_gain"] == 0.75
     assert ugv["namespace"] == "ugv_0" and ugv["parameters"][0]["turn_gain"] == 1.0
+
+
+LAYERS = ("scan_map", "rotation_shim_deg", "collision_guard", "turn_gain")
+
+
+def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores_it(
+    planner_launch_file: types.ModuleType,
+) -> None:
+    """``headline:=true`` gives the layers of ``mentor-bench --deployed``; a layer given as
+    well wins; without it the node keeps its own defaults."""
+    (plain,) = _launch(planner_launch_file, genome=UGV)
+    (values,) = plain["parameters"]
+    assert not set(LAYERS) & set(values)
+    (swarm,) = _launch(planner_launch_file, genome=SWARM, profile="swarm", headline="true")
+    (values,) = swarm["parameters"]
+    assert {k: values[k] for k in LAYERS} == headline_parameters("swarm")
+    assert values["turn_gain"] == 0.75 and values["scan_map"] is True
+    (ugv,) = _launch(planner_launch_file, genome=UGV, headline="true", turn_gain="0.9",
+                     collision_guard="false")
+    (values,) = ugv["parameters"]
+    assert values["turn_gain"] == 0.9 and values["collision_guard"] is False
+    assert values["rotation_shim_deg"] == 45.0 and values["scan_map"] is True
+    with pytest.raises(MentorError, match="turn_gain:=fast: expected a number"):
+        _launch(planner_launch_file, genome=UGV, turn_gain="fast")

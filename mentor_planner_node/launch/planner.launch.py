@@ -5,25 +5,32 @@
     ros2 launch mentor_planner_node planner.launch.py genome:=g.json scan_map:=true \
         scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]"
     ros2 launch mentor_planner_node planner.launch.py genome:=planners/ugv-paper-dual-s1.json \
-        scan_map:=true rotation_shim_deg:=45.0 collision_guard:=true   # the headline planner
+        headline:=true   # the headline planner
     ros2 launch mentor_planner_node planner.launch.py genome:=planners/swarm-paper-dual-s1.json \
-        profile:=swarm scan_map:=true rotation_shim_deg:=45.0 collision_guard:=true turn_gain:=0.75
+        profile:=swarm headline:=true
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
 every control period (``decide_on_timer``), publishing ``cmd_vel`` (again at ``repeat_rate``
 between decisions, for bases that stop on a quiet ``cmd_vel``). With ``scan_map`` it plans
 on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
-odometry frame (``docs/ros.md``, "Global plans").
+odometry frame (``docs/ros.md``, "Global plans"). ``headline:=true`` runs it as
+``mentor-bench --deployed`` scores the shipped planners: ``scan_map:=true
+rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's gain on the turn
+(``turn_gain:=0.75`` for the Swarm-Robot, 1 for the UGV); any of the four given as well wins.
 """
 
 from __future__ import annotations
 
-from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument
+from typing import Any
+
+from launch import LaunchContext, LaunchDescription
+from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 from launch_ros.parameter_descriptions import ParameterValue
+
+from mentor_core import MentorError, headline_parameters
 
 ARGUMENTS = {
     "genome": "best_genome.json",
@@ -32,10 +39,12 @@ ARGUMENTS = {
     "odom": "/odom",
     "cmd_vel": "/cmd_vel",
     "use_sim_time": "false",
-    "rotation_shim_deg": "0.0",
-    "collision_guard": "false",
-    "turn_gain": "1.0",
-    "scan_map": "false",
+    "headline": "false",
+    # '': the headline value with headline:=true, else the node's default
+    "rotation_shim_deg": "",
+    "collision_guard": "",
+    "turn_gain": "",
+    "scan_map": "",
     "scan_map_size": "20.0",
     "scan_map_resolution": "0.0",
     "scan_map_origin": "[-10.0, -10.0]",
@@ -44,8 +53,27 @@ ARGUMENTS = {
 }
 
 
-def generate_launch_description() -> LaunchDescription:
-    """The planner node with its topics remapped to the robot's."""
+def _truth(text: str) -> bool:
+    return text.strip().lower() in ("1", "true", "yes")
+
+
+def _layers(value: dict[str, str]) -> dict[str, Any]:
+    """The deployment layers' parameters: the headline mode's, then those given."""
+    layers = headline_parameters(value["profile"]) if _truth(value["headline"]) else {}
+    for name in ("scan_map", "collision_guard"):
+        if value[name].strip():
+            layers[name] = _truth(value[name])
+    for name in ("rotation_shim_deg", "turn_gain"):
+        if value[name].strip():
+            try:
+                layers[name] = float(value[name])
+            except ValueError:
+                raise MentorError(f"{name}:={value[name]}: expected a number") from None
+    return layers
+
+
+def _nodes(context: LaunchContext) -> list[Node]:
+    value = {name: LaunchConfiguration(name).perform(context) for name in ARGUMENTS}
     config = {name: LaunchConfiguration(name) for name in ARGUMENTS}
     planner = Node(
         package="mentor_planner_node",
@@ -56,10 +84,7 @@ def generate_launch_description() -> LaunchDescription:
             "genome": config["genome"],
             "profile": config["profile"],
             "use_sim_time": ParameterValue(config["use_sim_time"], value_type=bool),
-            "rotation_shim_deg": ParameterValue(config["rotation_shim_deg"], value_type=float),
-            "collision_guard": ParameterValue(config["collision_guard"], value_type=bool),
-            "turn_gain": ParameterValue(config["turn_gain"], value_type=float),
-            "scan_map": ParameterValue(config["scan_map"], value_type=bool),
+            **_layers(value),
             "scan_map_size": ParameterValue(config["scan_map_size"], value_type=float),
             "scan_map_resolution": ParameterValue(config["scan_map_resolution"], value_type=float),
             # no value_type: the string is read as YAML, a list of floats
@@ -77,8 +102,13 @@ def generate_launch_description() -> LaunchDescription:
             ("cmd_vel", config["cmd_vel"]),
         ],
     )
+    return [planner]
+
+
+def generate_launch_description() -> LaunchDescription:
+    """The planner node with its topics remapped to the robot's."""
     return LaunchDescription(
         [DeclareLaunchArgument(name, default_value=default) for name, default in
          ARGUMENTS.items()]
-        + [planner]
+        + [OpaqueFunction(function=_nodes)]
     )

@@ -117,6 +117,7 @@ _EXPORTS: dict[str, str] = {
     "robot_planners": "mentor_core.runtime.robot_graph",
     "simulator_period": "mentor_core.runtime.robot_graph",
     "parse_genomes": "mentor_core.runtime.robot_graph",
+    "headline_parameters": "mentor_core.runtime.robot_graph",
     "ReferenceSimulator": "mentor_core.runtime.simulator",
     "Event": "mentor_core.runtime.simulator",
     "ScenarioPlan": "mentor_core.runtime.scenario_plan",
@@ -325,6 +326,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.robot_graph import (
         RobotPlanner as RobotPlanner,
+    )
+    from mentor_core.runtime.robot_graph import (
+        headline_parameters as headline_parameters,
     )
     from mentor_core.runtime.robot_graph import (
         parse_genomes as parse_genomes,

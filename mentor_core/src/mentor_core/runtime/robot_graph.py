@@ -34,6 +34,12 @@ HEADLINE_MODE: dict[str, Any] = {
 }  # fmt: skip
 
 
+def headline_parameters(profile: str) -> dict[str, Any]:
+    """The planner node's parameters that run a planner of ``profile`` as a headline planner
+    (module docstring): :data:`HEADLINE_MODE` and the robot's gain on the turn."""
+    return {**HEADLINE_MODE, "turn_gain": deployed_turn_gain(profile)}
+
+
 def default_genome(profile: str) -> str:
     """The genome a robot of ``profile`` plans with unless told: the regression reference."""
     return f"bags/regression/{profile}_reference_genome.json"
@@ -119,7 +125,7 @@ def robot_planners(
             raise FileFormatError(genome, f"no such genome file (give one for {profile})")
         options: dict[str, Any] = {}
         if headline:
-            options.update(HEADLINE_MODE, turn_gain=deployed_turn_gain(profile))
+            options.update(headline_parameters(profile))
         if continuous:
             options["decide_on_timer"] = True
         planners.append(RobotPlanner(name, profile, genome, options))
