@@ -28,16 +28,13 @@ from mentor_core.runtime.planner import (
 )
 from mentor_core.sim.robots import get_profile
 
-# the planner node's parameters of mentor-bench --deployed, but for the robot's gain on the turn
-HEADLINE_MODE: dict[str, Any] = {
-    "scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG, "collision_guard": True,
-}  # fmt: skip
-
 
 def headline_parameters(profile: str) -> dict[str, Any]:
-    """The planner node's parameters that run a planner of ``profile`` as a headline planner
-    (module docstring): :data:`HEADLINE_MODE` and the robot's gain on the turn."""
-    return {**HEADLINE_MODE, "turn_gain": deployed_turn_gain(profile)}
+    """The planner node's parameters that run a planner of ``profile`` as a headline planner,
+    as ``mentor-bench --deployed`` does (module docstring): its scan map, the rotation shim,
+    the collision guard and the robot's gain on the turn."""
+    return {"scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG, "collision_guard": True,
+            "turn_gain": deployed_turn_gain(profile)}  # fmt: skip
 
 
 def default_genome(profile: str) -> str:
