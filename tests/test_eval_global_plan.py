@@ -143,15 +143,18 @@ def test_deployed_is_the_scan_map_run_behind_the_shim_and_the_guard_alone(
     assert deployed[0]["results"] == every[1]["results"]
 
 
-def test_deployed_gives_the_swarm_robot_its_turn_gain(tmp_path: Path) -> None:
+def test_deployed_gives_the_swarm_robot_its_turn_gain_and_view_corridor(tmp_path: Path) -> None:
     genome = ROOT / "planners" / "swarm-paper-dual-s1.json"
     common = [str(genome), "--robot", "swarm", "--seed", "3", "--n", "4", "--label", "ref"]
     flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
-    for name, extra in (("gained", ["--turn-gain", "0.75"]), ("plain", [])):
+    layers = {"both": ["--turn-gain", "0.75", "--view-margin", "0.1"],
+              "gained": ["--turn-gain", "0.75"], "plain": []}  # fmt: skip
+    for name, extra in layers.items():
         out = tmp_path / f"{name}.json"
         assert mentor_eval([*common, *flags, *extra, "--out", str(out)]) == 0
     assert mentor_eval([*common, "--deployed", "--out", str(tmp_path / "d.json")]) == 0
-    gained, plain, deployed = (json.loads((tmp_path / f"{n}.json").read_text())["runs"]
-                               for n in ("gained", "plain", "d"))  # fmt: skip
-    assert deployed[0]["results"] == gained[1]["results"]
-    assert gained[1]["results"] != plain[1]["results"]  # the gain changes the runs
+    both, gained, plain, deployed = (json.loads((tmp_path / f"{n}.json").read_text())["runs"]
+                                     for n in (*layers, "d"))  # fmt: skip
+    assert deployed[0]["results"] == both[1]["results"]
+    assert both[1]["results"] != gained[1]["results"]  # the corridor changes the runs
+    assert gained[1]["results"] != plain[1]["results"]  # and so does the gain

@@ -17,6 +17,7 @@ from memory_support import latch
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
 from nav_msgs.msg import Path as PathMsg
+from rclpy.exceptions import ParameterException
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from ros_support import REGRESSION, Graph, params, run_executable
@@ -522,3 +523,35 @@ def test_with_a_turn_gain_the_node_answers_as_the_planner_with_that_gain(graph: 
 def test_a_turn_gain_outside_zero_to_one_is_refused(graph: Graph, gain: float) -> None:
     with pytest.raises(MentorError, match="turn_gain"):
         _planner(graph, turn_gain=gain)
+
+
+def test_with_a_view_margin_the_node_answers_as_the_planner_with_that_corridor(
+    graph: Graph,
+) -> None:
+    """The readings beside the way to the goal read as nothing seen, as in the episodes;
+    the command differs from the plain planner's."""
+    planner = _planner(graph, view_margin=0.1)
+    assert planner.planner is not None and planner.planner.profile.view_margin == 0.1
+    robot = Robot(graph)
+    reference = GenomePlanner.load(GENOME, "swarm", view_margin=0.1)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
+    pose, readings = (1.4, 1.1, 2.0), [0.5, 0.5, 0.5]
+    assert graph.spin_until(lambda: robot.observe(10**9, readings, pose)
+                            or len(robot.commands) > 0)  # fmt: skip
+    got = robot.commands[0]
+    expected = reference.command(readings, pose, (1.0, 1.0))
+    assert (got.linear.x, got.angular.z) == expected
+    assert expected != GenomePlanner.load(GENOME, "swarm").command(readings, pose, (1.0, 1.0))
+
+
+@pytest.mark.parametrize("margin, used", [(0.0, None), (-0.1, "refused"), (math.inf, "refused")])
+def test_a_view_margin_of_zero_is_none_and_a_negative_or_endless_one_is_refused(
+    graph: Graph, margin: float, used: str | None
+) -> None:
+    if used == "refused":
+        # the declared range refuses them before the node's check (run_node: one line, 2)
+        with pytest.raises((MentorError, ParameterException), match="view_margin"):
+            _planner(graph, view_margin=margin)
+        return
+    planner = _planner(graph, view_margin=margin)
+    assert planner.planner is not None and planner.planner.profile.view_margin is None

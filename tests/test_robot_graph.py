@@ -72,6 +72,8 @@ def test_headline_planners_run_as_the_benchmark_scores_them(robot: str, genome: 
     assert deployed.rotation_shim is not None
     assert math.radians(values["rotation_shim_deg"]) == pytest.approx(deployed.rotation_shim)
     assert values["turn_gain"] == deployed.turn_gain == (0.75 if robot == "swarm" else 1.0)
+    assert values["view_margin"] == (deployed.view_margin or 0.0)
+    assert values["view_margin"] == (0.1 if robot == "swarm" else 0.0)
 
 
 def test_a_bad_robot_list_is_refused_in_one_line(tmp_path: Path) -> None:
@@ -195,10 +197,12 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     (values,) = swarm["parameters"]
     assert values["genome"] == SWARM and values["decide_on_timer"] is True
     assert values["scan_map"] is True and values["turn_gain"] == 0.75
+    assert values["view_margin"] == 0.1
     assert ugv["namespace"] == "ugv_0" and ugv["parameters"][0]["turn_gain"] == 1.0
+    assert ugv["parameters"][0]["view_margin"] == 0.0
 
 
-LAYERS = ("scan_map", "rotation_shim_deg", "collision_guard", "turn_gain")
+LAYERS = ("scan_map", "rotation_shim_deg", "collision_guard", "turn_gain", "view_margin")
 
 
 def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores_it(
@@ -212,11 +216,13 @@ def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores
     (swarm,) = _launch(planner_launch_file, genome=SWARM, profile="swarm", headline="true")
     (values,) = swarm["parameters"]
     assert {k: values[k] for k in LAYERS} == headline_parameters("swarm")
-    assert values["turn_gain"] == 0.75 and values["scan_map"] is True
+    assert values["turn_gain"] == 0.75 and values["view_margin"] == 0.1
+    assert values["scan_map"] is True
     (ugv,) = _launch(planner_launch_file, genome=UGV, headline="true", turn_gain="0.9",
-                     collision_guard="false")
+                     collision_guard="false", view_margin="0.3")
     (values,) = ugv["parameters"]
     assert values["turn_gain"] == 0.9 and values["collision_guard"] is False
+    assert values["view_margin"] == 0.3
     assert values["rotation_shim_deg"] == 45.0 and values["scan_map"] is True
     with pytest.raises(MentorError, match="turn_gain:=fast: expected a number"):
         _launch(planner_launch_file, genome=UGV, turn_gain="fast")

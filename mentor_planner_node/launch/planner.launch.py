@@ -16,8 +16,9 @@ between decisions, for bases that stop on a quiet ``cmd_vel``). With ``scan_map`
 on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
 odometry frame (``docs/ros.md``, "Global plans"). ``headline:=true`` runs it as
 ``mentor-bench --deployed`` scores the shipped planners: ``scan_map:=true
-rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's gain on the turn
-(``turn_gain:=0.75`` for the Swarm-Robot, 1 for the UGV); any of the four given as well wins.
+rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's gain on the turn and view
+corridor (``turn_gain:=0.75 view_margin:=0.1`` for the Swarm-Robot, ``1`` and ``0`` (none)
+for the UGV); any of the five given as well wins.
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ ARGUMENTS = {
     "rotation_shim_deg": "",
     "collision_guard": "",
     "turn_gain": "",
+    "view_margin": "",
     "scan_map": "",
     "scan_map_size": "20.0",
     "scan_map_resolution": "0.0",
@@ -63,7 +65,7 @@ def _layers(value: dict[str, str]) -> dict[str, Any]:
     for name in ("scan_map", "collision_guard"):
         if value[name].strip():
             layers[name] = _truth(value[name])
-    for name in ("rotation_shim_deg", "turn_gain"):
+    for name in ("rotation_shim_deg", "turn_gain", "view_margin"):
         if value[name].strip():
             try:
                 layers[name] = float(value[name])

@@ -55,6 +55,7 @@ class PlannerParameters:
     rotation_shim_deg: float = 0.0
     collision_guard: bool = False
     turn_gain: float = 1.0
+    view_margin: float = 0.0
     repeat_rate: float = REPEAT_RATE
 
 
@@ -144,6 +145,13 @@ def _declarations() -> list[tuple[str, Any, Any]]:
             _descriptor("in (0, 1]: scale the network's turn by this gain (0.75 for the "
                         "shipped Swarm-Robot planners; 1: as trained)", low=0.0),
         ),
+        (
+            "view_margin",
+            0.0,
+            _descriptor("m: show the network only what lies within this distance of its way "
+                        "to its goal, the carrot on a plan (0.1 for the shipped Swarm-Robot "
+                        "planners; 0: everything)", low=0.0),
+        ),
     ]
 
 
@@ -173,6 +181,9 @@ def check_parameters(
     gain = float(values["turn_gain"])
     if not 0.0 < gain <= 1.0:
         raise PlannerSetupError(f"turn_gain: {gain} is not in (0, 1]")
+    margin = float(values["view_margin"])
+    if not (margin >= 0.0 and margin < float("inf")):
+        raise PlannerSetupError(f"view_margin: {margin} is not a distance >= 0 m")
     repeat = float(values["repeat_rate"])
     if not (repeat >= 0.0 and repeat < float("inf")):
         raise PlannerSetupError(f"repeat_rate: {repeat} is not a rate >= 0 Hz")
@@ -197,6 +208,7 @@ def check_parameters(
         rotation_shim_deg=shim,
         collision_guard=bool(values["collision_guard"]),
         turn_gain=gain,
+        view_margin=margin,
         repeat_rate=repeat,
     )
 

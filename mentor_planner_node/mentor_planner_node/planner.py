@@ -23,7 +23,9 @@ With ``global_plan`` the network steers along a path given on ``plan`` or planne
 map, with ``scan_map`` along a plan on a map of its own scans, which it publishes on
 ``scan_map`` (:mod:`.global_plan`); with ``collision_guard`` its decisions pass a collision guard
 (:mod:`mentor_core.sim.collision_guard`) that may answer with a step back (``linear.x < 0``);
-``turn_gain`` scales the network's turn (:mod:`mentor_core.sim.turn_gain`).
+``turn_gain`` scales the network's turn (:mod:`mentor_core.sim.turn_gain`); ``view_margin``
+shows the network only what lies near its way to the goal
+(:mod:`mentor_core.sim.view_corridor`).
 """
 
 from __future__ import annotations
@@ -116,11 +118,13 @@ class PlannerNode(Node):
         self.control_period = p.control_period
         self.goal_radius = p.goal_radius
         shim = math.radians(p.rotation_shim_deg) if p.rotation_shim_deg > 0.0 else None
+        margin = p.view_margin if p.view_margin > 0.0 else None
         self.planner = (
-            GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard, p.turn_gain)
+            GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard,
+                               p.turn_gain, margin)
             if p.genome
             else None
-        )
+        )  # fmt: skip
         self.gate = DecisionGate(p.stale_timeout, p.sync_tolerance)
         self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
         self.arena: Bounds | None = None

@@ -112,6 +112,7 @@ _EXPORTS: dict[str, str] = {
     "GenomePlanner": "mentor_core.runtime.planner",
     "genome_control_period": "mentor_core.runtime.planner",
     "deployed_turn_gain": "mentor_core.runtime.planner",
+    "deployed_view_margin": "mentor_core.runtime.planner",
     "DecisionGate": "mentor_core.runtime.planner",
     "RobotPlanner": "mentor_core.runtime.robot_graph",
     "robot_planners": "mentor_core.runtime.robot_graph",
@@ -314,6 +315,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.planner import (
         deployed_turn_gain as deployed_turn_gain,
+    )
+    from mentor_core.runtime.planner import (
+        deployed_view_margin as deployed_view_margin,
     )
     from mentor_core.runtime.planner import (
         genome_control_period as genome_control_period,

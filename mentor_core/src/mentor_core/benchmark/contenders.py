@@ -32,6 +32,7 @@ from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
 from mentor_core.runtime.planner import (
     DEPLOYED_SHIM_DEG,
     deployed_turn_gain,
+    deployed_view_margin,
     planner_profile,
 )
 from mentor_core.sim.episode import InputGoals, Policy
@@ -107,6 +108,17 @@ def with_turn_gain(contender: Contender, gain: float) -> Contender:
     return dataclasses.replace(contender, profile=profile)
 
 
+def with_view_margin(contender: Contender, margin: float | None) -> Contender:
+    """``contender`` (an evolved planner) whose network sees only what lies within ``margin``
+    (m) of its way to its goal (:mod:`mentor_core.sim.view_corridor`; None: everything), its
+    name unchanged (``bench.json`` lists the margin among its settings). ConfigError for a
+    margin that is not positive."""
+    if margin is None:
+        return contender
+    profile = with_planner(contender.profile, view_margin=margin, source="view corridor")
+    return dataclasses.replace(contender, profile=profile)
+
+
 def behind_collision_guard(contender: Contender) -> Contender:
     """``contender`` with a collision guard vetting its decisions against what its sensors
     read lately (:mod:`mentor_core.sim.collision_guard`), named ``guard-<name>``."""
@@ -115,17 +127,22 @@ def behind_collision_guard(contender: Contender) -> Contender:
 
 
 def as_deployed(
-    contender: Contender, lookahead: float | None = None, turn_gain: float | None = None
-) -> Contender:
+    contender: Contender, lookahead: float | None = None, turn_gain: float | None = None,
+    view_margin: float | None = None,
+) -> Contender:  # fmt: skip
     """``contender`` (an evolved planner) as the shipped planners are deployed and scored
     (``benchmarks/RESULTS.md``, "Where it stands"): on its scan map (:func:`on_scan_map`,
     ``lookahead``), behind the collision guard and a rotation shim of
     :data:`DEPLOYED_SHIM_DEG`, with ``turn_gain`` on its network's turn (default its robot's:
-    :func:`~mentor_core.runtime.planner.deployed_turn_gain`), named
+    :func:`~mentor_core.runtime.planner.deployed_turn_gain`) and a view corridor of
+    ``view_margin`` (default its robot's, if any:
+    :func:`~mentor_core.runtime.planner.deployed_view_margin`), named
     ``mapped-guard-shim-<name>`` (``mentor-bench --deployed``; the planner node's
-    ``scan_map``, ``rotation_shim_deg``, ``collision_guard`` and ``turn_gain``)."""
+    ``scan_map``, ``rotation_shim_deg``, ``collision_guard``, ``turn_gain`` and
+    ``view_margin``)."""
     gain = deployed_turn_gain(contender.profile) if turn_gain is None else turn_gain
-    gained = with_turn_gain(contender, gain)
+    margin = deployed_view_margin(contender.profile) if view_margin is None else view_margin
+    gained = with_view_margin(with_turn_gain(contender, gain), margin)
     shimmed = behind_rotation_shim(gained, math.radians(DEPLOYED_SHIM_DEG))
     return on_scan_map(behind_collision_guard(shimmed), lookahead)
 

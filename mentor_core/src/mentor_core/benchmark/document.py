@@ -56,6 +56,7 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         **({} if profile.turn_gain == 1.0 else {"turn_gain": profile.turn_gain}),
         **({} if profile.proximity_scale is None
            else {"proximity_scale": profile.proximity_scale}),
+        **({} if profile.view_margin is None else {"view_margin": profile.view_margin}),
         "control_period": profile.control_period,
     }
 

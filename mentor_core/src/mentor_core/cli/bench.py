@@ -37,6 +37,7 @@ from mentor_core.benchmark.contenders import (
     hand_written,
     on_scan_map,
     with_turn_gain,
+    with_view_margin,
 )
 from mentor_core.benchmark.document import bench_document, load_bench
 from mentor_core.benchmark.parallel import run_parallel
@@ -49,7 +50,12 @@ from mentor_core.benchmark.suite import (
     reference_profile,
     shipped_limits,
 )
-from mentor_core.cli.arguments import check_deployed, rotation_shim_threshold, turn_gain_value
+from mentor_core.cli.arguments import (
+    check_deployed,
+    rotation_shim_threshold,
+    turn_gain_value,
+    view_margin_value,
+)
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.report.head_to_head import baseline_choice, head_to_head_markdown
@@ -96,13 +102,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--turn-gain", type=float, metavar="G",
                    help="scale each genome's turn by G in (0, 1] in all its runs "
                         "(default 1: as trained)")
+    p.add_argument("--view-margin", type=float, metavar="M",
+                   help="show each genome's network only what lies within M m of its way "
+                        "to its goal (the carrot on a plan) in all its runs (default: all)")
     p.add_argument("--deployed", action="store_true",
                    help="run each genome only as the shipped planners are deployed: on its "
                         "scan map behind the collision guard and a 45 deg rotation shim, with "
-                        "its robot's gain on the turn (Swarm-Robot 0.75), as "
-                        "mapped-guard-shim-<label>; the baselines plain, guarded, on their "
-                        "scan map and both (not with --scan-map, --rotation-shim, "
-                        "--collision-guard or --turn-gain)")
+                        "its robot's gain on the turn and view corridor (Swarm-Robot 0.75 "
+                        "and 0.1 m), as mapped-guard-shim-<label>; the baselines plain, "
+                        "guarded, on their scan map and both (not with --scan-map, "
+                        "--rotation-shim, --collision-guard, --turn-gain or --view-margin)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     p.add_argument("--baselines-chosen-on", type=Path, metavar="BENCH_JSON",
@@ -158,6 +167,7 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     gain = turn_gain_value(args.turn_gain)
     if gain != 1.0:
         genomes = [with_turn_gain(c, gain) for c in genomes]
+    genomes = [with_view_margin(c, view_margin_value(args.view_margin)) for c in genomes]
     if args.deployed:
         chosen = [as_deployed(c, args.lookahead) for c in genomes]
         chosen += _variants(baselines, True, True, args.lookahead)

@@ -10,6 +10,7 @@
     mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
     mentor-eval a.json --bag bags/unseen/ugv --collision-guard     # no arc into what was read
     mentor-eval a.json --bag bags/unseen/swarm --turn-gain 0.75    # the network turns less
+    mentor-eval a.json --bag bags/unseen/swarm --scan-map --view-margin 0.1  # sees its way only
     mentor-eval a.json --bag bags/unseen/ugv --deployed            # only as deployed
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
@@ -24,10 +25,12 @@ world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run besi
 (:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does;
 ``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`), as
 the planner node's ``collision_guard`` does; ``--turn-gain`` scales the network's turn
-(:mod:`mentor_core.sim.turn_gain`), as the planner node's ``turn_gain`` does. ``--deployed``
-runs each genome only as the shipped planners are deployed: the ``+scan-map`` run behind the
-shim (45 deg) and the guard, with the robot's gain on the turn (the Swarm-Robot's 0.75),
-without the plain run (:func:`mentor_core.benchmark.contenders.as_deployed`).
+(:mod:`mentor_core.sim.turn_gain`), as the planner node's ``turn_gain`` does; ``--view-margin``
+shows the network only what lies near its way (:mod:`mentor_core.sim.view_corridor`), as the
+planner node's ``view_margin`` does. ``--deployed`` runs each genome only as the shipped
+planners are deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard, with the
+robot's gain on the turn and view corridor (the Swarm-Robot's 0.75 and 0.1 m), without the
+plain run (:func:`mentor_core.benchmark.contenders.as_deployed`).
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -55,6 +58,7 @@ from mentor_core.cli.arguments import (
     rotation_shim_threshold,
     seed,
     turn_gain_value,
+    view_margin_value,
 )
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
 from mentor_core.errors import FileFormatError, MentorError
@@ -69,6 +73,7 @@ from mentor_core.runtime.planner import (
     DEPLOYED_SHIM_DEG,
     GenomePlanner,
     deployed_turn_gain,
+    deployed_view_margin,
     planner_profile,
 )
 from mentor_core.runtime.recording import record_planners
@@ -293,12 +298,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="scale the network's turn by G in (0, 1] (default 1: as trained)",
     )
     p.add_argument(
+        "--view-margin",
+        type=float,
+        metavar="M",
+        help="show the network only what lies within M m of its way to its goal (the carrot "
+        "with --scan-map or --global-plan; default: all)",
+    )
+    p.add_argument(
         "--deployed",
         action="store_true",
         help="run each genome only as deployed: on the map of its own readings behind the "
         "rotation shim (45 deg) and the collision guard, with the robot's gain on the turn "
-        "(Swarm-Robot 0.75), without the plain run (not with --scan-map, --rotation-shim, "
-        "--collision-guard or --turn-gain)",
+        "and view corridor (Swarm-Robot 0.75 and 0.1 m), without the plain run (not with "
+        "--scan-map, --rotation-shim, --collision-guard, --turn-gain or --view-margin)",
     )
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
@@ -353,10 +365,11 @@ def main(argv: list[str] | None = None) -> int:
             args.rotation_shim = DEPLOYED_SHIM_DEG
         shim = rotation_shim_threshold(args.rotation_shim)
         gain = turn_gain_value(args.turn_gain)
+        margin = view_margin_value(args.view_margin)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
         if args.deployed:
-            gain = deployed_turn_gain(profile)
+            gain, margin = deployed_turn_gain(profile), deployed_view_margin(profile)
         numbers, skipped = runnable(profile, world, scenarios, source)
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
@@ -372,6 +385,8 @@ def main(argv: list[str] | None = None) -> int:
                 planner = with_planner(planner, collision_guard=True, source=path)
             if gain != 1.0:
                 planner = with_planner(planner, turn_gain=gain, source=path)
+            if margin is not None:
+                planner = with_planner(planner, view_margin=margin, source=path)
             guide = guide_config(planner, lookahead=args.lookahead)
             mapped = scan_guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]

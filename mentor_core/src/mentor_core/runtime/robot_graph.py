@@ -5,7 +5,8 @@ One robot per profile entry, named ``<profile>_<i>`` (``ugv ugv swarm``: ``ugv_0
 ``swarm_0``), each planning with its profile's genome (``bags/regression/<profile>_reference_
 genome.json`` unless one is given). A *headline* planner runs as ``mentor-bench --deployed``
 scores it (:func:`mentor_core.benchmark.contenders.as_deployed`): on a map of its own scans,
-behind the rotation shim (45 deg) and the collision guard, with its robot's gain on the turn.
+behind the rotation shim (45 deg) and the collision guard, with its robot's gain on the turn
+and view corridor.
 
 The simulator steps at the period the genomes decide at (their metadata). In lockstep every
 genome must decide at the same period; in continuous mode (the simulator runs like Gazebo and
@@ -24,6 +25,7 @@ from mentor_core.errors import FileFormatError, MentorError
 from mentor_core.runtime.planner import (
     DEPLOYED_SHIM_DEG,
     deployed_turn_gain,
+    deployed_view_margin,
     genome_control_period,
 )
 from mentor_core.sim.robots import get_profile
@@ -32,9 +34,11 @@ from mentor_core.sim.robots import get_profile
 def headline_parameters(profile: str) -> dict[str, Any]:
     """The planner node's parameters that run a planner of ``profile`` as a headline planner,
     as ``mentor-bench --deployed`` does (module docstring): its scan map, the rotation shim,
-    the collision guard and the robot's gain on the turn."""
+    the collision guard, the robot's gain on the turn and its view corridor's margin (0:
+    none)."""
     return {"scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG, "collision_guard": True,
-            "turn_gain": deployed_turn_gain(profile)}  # fmt: skip
+            "turn_gain": deployed_turn_gain(profile),
+            "view_margin": deployed_view_margin(profile) or 0.0}  # fmt: skip
 
 
 def default_genome(profile: str) -> str:

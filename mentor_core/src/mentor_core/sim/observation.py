@@ -27,6 +27,10 @@ a full turn, so the UGV's planners zig-zag wherever their 4 m sensors read anyth
 (``benchmarks/RESULTS.md``, "Where the UGV's full turns come from"); a proximity leaves what
 is far nearly unseen and what is near salient.
 
+A planner with a view corridor (``RobotProfile.view_margin``, a deployment option; not in the
+paper) reads as nothing seen whatever lies farther than the margin from its way to the goal
+(:mod:`mentor_core.sim.view_corridor`), before either encoding.
+
 ``"egocentric"`` (the shipped training configs)::
 
     [U_1 .. U_k, cos beta, sin beta, S]
@@ -73,6 +77,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.sim.kinematics import wrap_angle
 from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.view_corridor import corridor_ranges
 
 FloatArray = NDArray[np.float64]
 CLEARANCE_CONE = np.pi / 4  # sensors facing within this of the chord read "ahead", rad
@@ -147,7 +152,8 @@ def network_inputs(
     context: ArrayLike | None = None,
 ) -> FloatArray:
     """Network inputs (n, ``profile.n_inputs``) = ``[range inputs, dX, dY, theta, context]``
-    (module docstring; the range inputs of :func:`range_inputs`).
+    (module docstring; the range inputs of :func:`range_inputs`, of the readings within the
+    view corridor when the profile has one: :mod:`mentor_core.sim.view_corridor`).
 
     Args:
         ranges: (n, k) sensor readings, m, in the profile's sensor order; +inf = nothing seen.
@@ -161,16 +167,17 @@ def network_inputs(
     Raises ValueError for NaN or negative readings, non-finite poses or goals, or shapes that
     do not match.
     """
-    u = range_inputs(ranges, profile)
+    r = clip_ranges(ranges, profile)
     p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
     g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
-    if p.shape != (u.shape[0], 3) or g.shape != (u.shape[0], 2):
+    if p.shape != (r.shape[0], 3) or g.shape != (r.shape[0], 2):
         raise ValueError(
-            f"expected poses ({u.shape[0]}, 3) and goals ({u.shape[0]}, 2), "
+            f"expected poses ({r.shape[0]}, 3) and goals ({r.shape[0]}, 2), "
             f"got {p.shape} and {g.shape}"
         )
     if not (np.isfinite(p).all() and np.isfinite(g).all()):
         raise ValueError("pose or goal is not finite")
+    u = range_inputs(corridor_ranges(r, p, g, profile), profile)
     out = np.empty((u.shape[0], profile.n_inputs), dtype=np.float64)
     out[:, : profile.n_sensors] = u
     k = profile.n_sensors

@@ -120,6 +120,10 @@ class RobotProfile:
         proximity_scale: when set, the network reads each range as the proximity
             ``exp(-r / proximity_scale)`` (m; :func:`mentor_core.sim.observation.range_inputs`)
             instead of ``r`` in m, as in the paper (None). A planner's setting.
+        view_margin: when set, the network sees only what lies within this distance of the
+            segment to its goal, m; other readings read as nothing seen
+            (:mod:`mentor_core.sim.view_corridor`). None in the paper. A deployment option,
+            never trained with.
     """
 
     name: str
@@ -149,6 +153,7 @@ class RobotProfile:
     collision_guard: bool = False
     turn_gain: float = 1.0
     proximity_scale: float | None = None
+    view_margin: float | None = None
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:
@@ -292,6 +297,7 @@ def with_planner(
     collision_guard: object = None,
     turn_gain: object = None,
     proximity_scale: object = None,
+    view_margin: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
@@ -303,9 +309,9 @@ def with_planner(
     in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`), its control period (s, in
     ``(0, profile.control_period]``), whether a collision guard vets its decisions (a
     bool; :mod:`mentor_core.sim.collision_guard`), the gain on its turn (in ``(0, 1]``;
-    :mod:`mentor_core.sim.turn_gain`) and its proximity scale (m, > 0;
-    :func:`mentor_core.sim.observation.range_inputs`) replaced where given (None keeps the
-    profile's).
+    :mod:`mentor_core.sim.turn_gain`), its proximity scale (m, > 0;
+    :func:`mentor_core.sim.observation.range_inputs`) and its view corridor's margin (m, > 0;
+    :mod:`mentor_core.sim.view_corridor`) replaced where given (None keeps the profile's).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
@@ -389,6 +395,10 @@ def with_planner(
             proximity_scale, lambda v: 0.0 < v < math.inf, "(0, inf) m", "proximity_scale",
             where,
         )  # fmt: skip
+    if view_margin is not None:
+        changes["view_margin"] = _planner_number(
+            view_margin, lambda v: 0.0 < v < math.inf, "(0, inf) m", "view_margin", where
+        )
     return dataclasses.replace(profile, **changes)
 
 

@@ -1,0 +1,64 @@
+"""A view corridor at deployment: the network sees only what lies near its way to the goal.
+
+Not in the paper; off by default (the planner setting ``RobotProfile.view_margin``, None). A
+reading whose hit point lies farther than the margin ``m`` from the segment from the robot to
+its goal is shown to the network as nothing seen (the sensor's range)::
+
+    r_i' = sensor_range   if  min over the rays j of sensor i of  dist(h_ij, [0, g]) > m
+    r_i' = r_i            otherwise
+
+with ``h_ij = p_i + r_i (cos a_ij, sin a_ij)`` the point at the reading's range along ray ``j``
+of sensor ``i`` (mount ``p_i``, facing ``a_ij``, every ray of a beam, since the reading may come
+from any of them) and ``[0, g]`` the segment from the robot's origin to the goal, both in the
+body frame. On a plan on the scan map (:mod:`mentor_core.navigation.scan_map`) the goal a
+network sees is the carrot, and the plan already keeps clear of what the robot has read; the
+network was trained without a plan and swerves from every wall it reads. With the corridor
+it reacts only to what stands in the way of the carrot. The collision guard
+(:mod:`mentor_core.sim.collision_guard`) and the clearance limit still read every reading.
+
+Chosen on the benchmark's validation split for the shipped Swarm-Robot planners (0.1 m;
+``benchmarks/RESULTS.md``, "A view corridor"); it cost the UGV's planners goals, whose 4 m
+sensors read the walls they keep to.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mentor_core.sim.robots import RobotProfile
+
+FloatArray = NDArray[np.float64]
+
+
+def corridor_ranges(
+    ranges: FloatArray, poses: FloatArray, goals: FloatArray, profile: RobotProfile
+) -> FloatArray:
+    """The clipped readings (n, k) (m) with those outside the view corridor of
+    ``profile.view_margin`` set to the sensor range (module docstring); ``ranges`` themselves
+    when the profile has no corridor. ``poses`` (n, 3) and ``goals`` (n, 2) in the map frame.
+    """
+    margin = profile.view_margin
+    if margin is None:
+        return ranges
+    goal = _goal_in_body(poses, goals)  # (n, 2)
+    length = np.hypot(goal[:, 0], goal[:, 1])
+    unit = np.divide(goal, length[:, None], out=np.zeros_like(goal), where=length[:, None] > 0)
+    mounts = profile.sensor_mounts
+    angles = mounts[:, 2:3] + profile.ray_offsets  # (k, rays); a single ray repeated
+    # hit points (n, k, rays) in the body frame
+    hx = mounts[None, :, 0:1] + ranges[:, :, None] * np.cos(angles)[None]
+    hy = mounts[None, :, 1:2] + ranges[:, :, None] * np.sin(angles)[None]
+    along = hx * unit[:, 0, None, None] + hy * unit[:, 1, None, None]
+    t = np.clip(along, 0.0, length[:, None, None])
+    dist = np.hypot(hx - t * unit[:, 0, None, None], hy - t * unit[:, 1, None, None])
+    outside = dist.min(axis=2) > margin
+    return np.where(outside, profile.sensor_range, ranges)
+
+
+def _goal_in_body(poses: ArrayLike, goals: ArrayLike) -> FloatArray:
+    """The goals (n, 2) in the body frames of ``poses`` (n, 3), m."""
+    p = np.asarray(poses, dtype=np.float64)
+    v = np.asarray(goals, dtype=np.float64) - p[:, :2]
+    c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
+    return np.column_stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]])
