@@ -5,16 +5,14 @@ decides with it as the engine does: ``tests/test_rotation_shim.py``.)"""
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from deployment_support import check_deployment_flag
 
 from mentor_core.benchmark.contenders import as_deployed, evolved
-from mentor_core.cli import bench as bench_cli
-from mentor_core.cli import evaluate as eval_cli
 from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import genome_from_edges
 from mentor_core.evolution.network import FeedForwardNetwork
@@ -91,16 +89,4 @@ def test_the_shipped_swarm_planners_are_deployed_with_their_gain() -> None:
 def test_the_command_lines_take_a_gain_and_refuse_it_beside_deployed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    out = tmp_path / "bench"
-    assert bench_cli.main([str(SWARM_PLANNER), "--robot", "swarm", "--families", "rooms",
-                           "--pairs-per-family", "2", "--baselines", "none", "--no-oracle",
-                           "--turn-gain", "0.75", "--out", str(out)]) == 0  # fmt: skip
-    doc = json.loads((out / "bench.json").read_text())
-    assert doc["contenders"][0]["settings"]["turn_gain"] == 0.75
-    for main in (bench_cli.main, eval_cli.main):
-        robot = ["--robot", "swarm"] if main is bench_cli.main else ["--bag", "bags/unseen/swarm"]
-        for extra in (["--turn-gain", "1.5"], ["--deployed", "--turn-gain", "0.5"]):
-            capsys.readouterr()
-            assert main([str(SWARM_PLANNER), *robot, *extra]) == 2
-            err = capsys.readouterr().err
-            assert "--turn-gain" in err and len(err.strip().splitlines()) == 1
+    check_deployment_flag("--turn-gain", 0.75, "1.5", "turn_gain", tmp_path, capsys)

@@ -6,16 +6,14 @@ command-line tools all take it. (The planner node decides with it as the planner
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from deployment_support import check_deployment_flag
 
 from mentor_core.benchmark.contenders import as_deployed, evolved
-from mentor_core.cli import bench as bench_cli
-from mentor_core.cli import evaluate as eval_cli
 from mentor_core.errors import ConfigError
 from mentor_core.runtime.planner import GenomePlanner, deployed_view_margin
 from mentor_core.sim.observation import network_inputs
@@ -117,16 +115,4 @@ def test_the_shipped_swarm_planners_are_deployed_with_their_corridor() -> None:
 def test_the_command_lines_take_a_margin_and_refuse_it_beside_deployed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    out = tmp_path / "bench"
-    assert bench_cli.main([str(SWARM_PLANNER), "--robot", "swarm", "--families", "rooms",
-                           "--pairs-per-family", "2", "--baselines", "none", "--no-oracle",
-                           "--view-margin", "0.1", "--out", str(out)]) == 0  # fmt: skip
-    doc = json.loads((out / "bench.json").read_text())
-    assert doc["contenders"][0]["settings"]["view_margin"] == 0.1
-    for main in (bench_cli.main, eval_cli.main):
-        robot = ["--robot", "swarm"] if main is bench_cli.main else ["--bag", "bags/unseen/swarm"]
-        for extra in (["--view-margin", "0"], ["--deployed", "--view-margin", "0.1"]):
-            capsys.readouterr()
-            assert main([str(SWARM_PLANNER), *robot, *extra]) == 2
-            err = capsys.readouterr().err
-            assert "--view-margin" in err and len(err.strip().splitlines()) == 1
+    check_deployment_flag("--view-margin", 0.1, "0", "view_margin", tmp_path, capsys)
