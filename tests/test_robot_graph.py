@@ -226,3 +226,14 @@ def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores
     assert values["rotation_shim_deg"] == 45.0 and values["scan_map"] is True
     with pytest.raises(MentorError, match="turn_gain:=fast: expected a number"):
         _launch(planner_launch_file, genome=UGV, turn_gain="fast")
+    with pytest.raises(MentorError, match="collision_guard:=ture: expected true or false"):
+        _launch(planner_launch_file, genome=UGV, collision_guard="ture")
+
+
+def test_the_launch_files_refuse_a_mistyped_argument_in_one_line(
+    launch_file: types.ModuleType,
+) -> None:
+    for name, text in (("continuous", "maybe"), ("rviz", "ture"), ("lidar_rays", "-3"),
+                       ("real_time_factor", "fast"), ("headline", "yess")):  # fmt: skip
+        with pytest.raises(MentorError, match=f"{name}:={text}: expected"):
+            _launch(launch_file, **{name: text})

@@ -10,7 +10,13 @@ import rclpy
 from rclpy.context import Context
 from rclpy.node import Node
 
-from mentor_core.runtime.ros_arguments import parameter_fault
+from mentor_core.errors import MentorError
+from mentor_core.runtime.ros_arguments import (
+    launch_count,
+    launch_flag,
+    launch_number,
+    parameter_fault,
+)
 
 pytestmark = pytest.mark.ros
 
@@ -45,3 +51,28 @@ def test_a_mapping_is_refused_with_a_hint_that_works() -> None:
         rclpy.try_shutdown(context=context)
     assert "nested list" in parameter_fault(["x", "--ros-args", "-p", "a:=[[1], [2]]"])
     assert "is not YAML" in parameter_fault(["x", "--ros-args", "-p", "a:=[1"])
+
+
+@pytest.mark.parametrize("text, flag", [("true", True), (" True", True), ("1", True),
+                                        ("yes", True), ("FALSE", False), ("0", False),
+                                        ("no", False)])  # fmt: skip
+def test_a_launch_flag_reads_as_ros_launch_conditions_do(text: str, flag: bool) -> None:
+    assert launch_flag("rviz", text) is flag
+
+
+@pytest.mark.parametrize("text", ["ture", "", "2", "on"])
+def test_a_mistyped_launch_flag_is_one_line_naming_it(text: str) -> None:
+    """Before, anything but true/1/yes read as false: ``collision_guard:=ture`` ran unguarded."""
+    with pytest.raises(MentorError, match=f"collision_guard:={text}: expected true or false"):
+        launch_flag("collision_guard", text)
+
+
+def test_launch_numbers_and_counts_are_refused_in_one_line_naming_them() -> None:
+    assert launch_number("turn_gain", "0.75") == 0.75
+    assert launch_count("lidar_rays", "360") == 360
+    for text in ("fast", "nan", "inf", ""):
+        with pytest.raises(MentorError, match=f"turn_gain:={text}: expected a number"):
+            launch_number("turn_gain", text)
+    for text in ("-1", "3.5", "many"):
+        with pytest.raises(MentorError, match=f"lidar_rays:={text}: expected a whole number"):
+            launch_count("lidar_rays", text)

@@ -31,7 +31,7 @@ from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 from launch_ros.parameter_descriptions import ParameterValue
 
-from mentor_core import MentorError, headline_parameters
+from mentor_core import headline_parameters, launch_flag, launch_number
 
 ARGUMENTS = {
     "genome": "best_genome.json",
@@ -55,22 +55,16 @@ ARGUMENTS = {
 }
 
 
-def _truth(text: str) -> bool:
-    return text.strip().lower() in ("1", "true", "yes")
-
-
 def _layers(value: dict[str, str]) -> dict[str, Any]:
     """The deployment layers' parameters: the headline mode's, then those given."""
-    layers = headline_parameters(value["profile"]) if _truth(value["headline"]) else {}
+    headline = launch_flag("headline", value["headline"])
+    layers = headline_parameters(value["profile"]) if headline else {}
     for name in ("scan_map", "collision_guard"):
         if value[name].strip():
-            layers[name] = _truth(value[name])
+            layers[name] = launch_flag(name, value[name])
     for name in ("rotation_shim_deg", "turn_gain", "view_margin"):
         if value[name].strip():
-            try:
-                layers[name] = float(value[name])
-            except ValueError:
-                raise MentorError(f"{name}:={value[name]}: expected a number") from None
+            layers[name] = launch_number(name, value[name])
     return layers
 
 

@@ -29,7 +29,15 @@ from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
-from mentor_core import RobotPlanner, parse_genomes, robot_planners, simulator_period
+from mentor_core import (
+    RobotPlanner,
+    launch_count,
+    launch_flag,
+    launch_number,
+    parse_genomes,
+    robot_planners,
+    simulator_period,
+)
 
 ARGUMENTS = {
     "robots": "robot_0",
@@ -47,17 +55,13 @@ ARGUMENTS = {
 }
 
 
-def _truth(text: str) -> bool:
-    return text.strip().lower() in ("1", "true", "yes")
-
-
 def _items(text: str) -> list[str]:
     return [item.strip() for item in text.split(",") if item.strip()]
 
 
 def _planners(value: dict[str, str], continuous: bool) -> list[RobotPlanner]:
     """The robots and their planners: of ``profiles``, else ``robots`` all of ``profile``."""
-    headline = _truth(value["headline"])
+    headline = launch_flag("headline", value["headline"])
     if value["profiles"]:
         return robot_planners(_items(value["profiles"]), parse_genomes(_items(value["genomes"])),
                               headline=headline, continuous=continuous)
@@ -69,9 +73,10 @@ def _planners(value: dict[str, str], continuous: bool) -> list[RobotPlanner]:
 
 def _nodes(context: LaunchContext) -> list[Node]:
     value = {name: LaunchConfiguration(name).perform(context) for name in ARGUMENTS}
-    rays = int(value["lidar_rays"])
-    continuous = _truth(value["continuous"])
-    rate = float(value["real_time_factor"]) or (1.0 if continuous else 0.0)
+    rays = launch_count("lidar_rays", value["lidar_rays"])
+    continuous = launch_flag("continuous", value["continuous"])
+    rate = launch_number("real_time_factor", value["real_time_factor"])
+    rate = rate or (1.0 if continuous else 0.0)
     planners = _planners(value, continuous)
     nodes = [
         Node(
@@ -86,7 +91,7 @@ def _nodes(context: LaunchContext) -> list[Node]:
                 "lidar_rays": rays,
                 "continuous": continuous,
                 "real_time_factor": rate,
-                "wait_for_goals": _truth(value["wait_for_goals"]),
+                "wait_for_goals": launch_flag("wait_for_goals", value["wait_for_goals"]),
                 # the period the genomes decide at (their metadata); continuous: the shortest
                 "control_period": simulator_period(planners, continuous, "continuous:=true"),
             }],
@@ -104,7 +109,7 @@ def _nodes(context: LaunchContext) -> list[Node]:
                 remappings=[("scan", "lidar/scan")] if rays > 0 else [],
             )
         )
-    if _truth(value["rviz"]):
+    if launch_flag("rviz", value["rviz"]):
         config = os.path.join(get_package_share_directory("mentor_sim_node"), "config",
                               "mentor.rviz")
         nodes.append(Node(package="rviz2", executable="rviz2", arguments=["-d", config],

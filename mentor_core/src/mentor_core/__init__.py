@@ -137,6 +137,9 @@ _EXPORTS: dict[str, str] = {
     "Wiring": "mentor_core.runtime.wiring",
     "PlannerFrames": "mentor_core.runtime.planner_frames",
     "parameter_fault": "mentor_core.runtime.ros_arguments",
+    "launch_count": "mentor_core.runtime.ros_arguments",
+    "launch_flag": "mentor_core.runtime.ros_arguments",
+    "launch_number": "mentor_core.runtime.ros_arguments",
     "ContinuousConfig": "mentor_core.runtime.session_config",
     "bounds_fault": "mentor_core.runtime.goal_intake",
     "bounds_in": "mentor_core.runtime.goal_intake",
@@ -342,6 +345,15 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.robot_graph import (
         simulator_period as simulator_period,
+    )
+    from mentor_core.runtime.ros_arguments import (
+        launch_count as launch_count,
+    )
+    from mentor_core.runtime.ros_arguments import (
+        launch_flag as launch_flag,
+    )
+    from mentor_core.runtime.ros_arguments import (
+        launch_number as launch_number,
     )
     from mentor_core.runtime.ros_arguments import (
         parameter_fault as parameter_fault,

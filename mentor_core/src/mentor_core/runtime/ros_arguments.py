@@ -4,15 +4,23 @@ rcl parses every ``-p name:=value`` (``--param``) rule inside ``--ros-args`` as 
 only a scalar or a list of scalars; anything else (a JSON object such as ``{"who": "review"}``
 is a YAML mapping) makes ``rclpy.init`` log an error and raise. :func:`parameter_fault` finds
 such a rule first and says how to pass the value as a string.
+
+The launch files read their arguments' text with :func:`launch_flag`, :func:`launch_number`
+and :func:`launch_count`, which refuse a typo (``collision_guard:=ture``) in one line, as
+ROS's own launch conditions refuse anything but ``true``, ``false``, ``1`` and ``0``.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import yaml
 
+from mentor_core.errors import MentorError
+
 _SCALARS = (str, int, float, bool)
+_FLAGS = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}
 
 
 def _is_value(value: object) -> bool:
@@ -47,3 +55,36 @@ def parameter_fault(argv: Sequence[str]) -> str:
                     f"as a string: -p '{name}:=\"{quoted}\"'"
                 )
     return ""
+
+
+def launch_flag(name: str, text: str) -> bool:
+    """A launch argument ``name:=text`` as a bool: ``true``/``false``, ``1``/``0`` or
+    ``yes``/``no`` in any case; MentorError (one line naming it) for anything else."""
+    flag = _FLAGS.get(text.strip().lower())
+    if flag is None:
+        raise MentorError(f"{name}:={text}: expected true or false")
+    return flag
+
+
+def launch_number(name: str, text: str) -> float:
+    """A launch argument ``name:=text`` as a float; MentorError (one line naming it) for
+    anything that is not a finite number."""
+    try:
+        number = float(text)
+    except ValueError:
+        number = math.nan
+    if not math.isfinite(number):
+        raise MentorError(f"{name}:={text}: expected a number")
+    return number
+
+
+def launch_count(name: str, text: str) -> int:
+    """A launch argument ``name:=text`` as a whole number >= 0; MentorError (one line naming
+    it) for anything else."""
+    try:
+        count = int(text)
+    except ValueError:
+        count = -1
+    if count < 0:
+        raise MentorError(f"{name}:={text}: expected a whole number >= 0")
+    return count
