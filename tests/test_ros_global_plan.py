@@ -2,8 +2,9 @@
 planner node plans on it, steers round the dead end and reaches the goal, publishing the path
 it follows; the episode equals the in-process one (the same guide on the grid the wire
 carries) exactly. A path given on ``plan`` is followed instead of planning. With ``scan_map``
-the node plans on a map of its own scans, behind the rotation shim and the collision guard,
-as the benchmark's headline planners run, and the episode equals the in-process one."""
+the node plans on a map of its own scans, behind the rotation shim and the collision guard
+(and a view corridor to its carrot), as the benchmark's headline planners run, and the
+episode equals the in-process one."""
 
 from __future__ import annotations
 
@@ -104,8 +105,9 @@ def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
     np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
 
 
+@pytest.mark.parametrize("margin", [None, 0.5], ids=["all-seen", "view-corridor"])
 def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchmark(
-    graph: Graph, tmp_path: Path
+    graph: Graph, tmp_path: Path, margin: float | None
 ) -> None:
     (tmp_path / "world.yaml").write_text(
         "format: mentor-world\nversion: 1\nsize: 12.0\n"
@@ -118,7 +120,8 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     maps: list[OccupancyGridMsg] = []
     probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
     probe.create_subscription(OccupancyGridMsg, "/robot_0/scan_map", maps.append, QOS_MAP)
-    planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True)
+    planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True,
+                       view_margin=margin or 0.0)
     assert planner.global_plan is not None and not planner.global_plan.ready  # no arena yet
     sim = _run_one_episode(graph, tmp_path / "world.yaml", bag)
     graph.spin_until(lambda: bool(paths) and bool(maps), timeout=2.0)
@@ -129,9 +132,11 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     assert all(m.header.frame_id == "odom" for m in maps)
 
     # the same episode in process: the genome behind the shim and a guard on no arena, on
-    # the map of what it read, as mentor-bench --scan-map --rotation-shim 45 runs it
+    # the map of what it read, as mentor-bench --scan-map --rotation-shim 45 runs it (with
+    # --view-margin: the corridor runs to the carrot the node steers to)
     source = load_scenario_source(world_file=tmp_path / "world.yaml")
-    plain = GenomePlanner.load(GENOME, "ugv", np.pi / 4, collision_guard=True)
+    plain = GenomePlanner.load(GENOME, "ugv", np.pi / 4, collision_guard=True,
+                               view_margin=margin)
     mapped = ScanGuidedPlanner(plain, scan_guide_config(plain.profile), 12.0)
     run = recorded_episodes(read_episode_bag(bag), bag)[0]
     seen: list[np.ndarray] = []  # the map after each decision
