@@ -144,7 +144,8 @@ def test_deployed_is_the_scan_map_run_behind_the_shim_and_the_guard_alone(
 
 
 def test_deployed_gives_the_swarm_robot_its_turn_gain_and_view_corridor(tmp_path: Path) -> None:
-    genome = ROOT / "planners" / "swarm-paper-dual-s1.json"
+    # a genome trained without the corridor (the shipped ones read through it as trained)
+    genome = ROOT / "bags" / "regression" / "swarm_reference_genome.json"
     common = [str(genome), "--robot", "swarm", "--seed", "3", "--n", "4", "--label", "ref"]
     flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
     layers = {"both": ["--turn-gain", "0.75", "--view-margin", "0.1"],

@@ -150,7 +150,8 @@ def _declarations() -> list[tuple[str, Any, Any]]:
             0.0,
             _descriptor("m: show the network only what lies within this distance of its way "
                         "to its goal, the carrot on a plan (0.1 for the shipped Swarm-Robot "
-                        "planners; 0: everything)", low=0.0),
+                        "planners; 0: the genome's, everything for one trained without)",
+                        low=0.0),
         ),
     ]
 

@@ -104,7 +104,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default 1: as trained)")
     p.add_argument("--view-margin", type=float, metavar="M",
                    help="show each genome's network only what lies within M m of its way "
-                        "to its goal (the carrot on a plan) in all its runs (default: all)")
+                        "to its goal (the carrot on a plan) in all its runs (default: as "
+                        "trained, all for most genomes)")
     p.add_argument("--deployed", action="store_true",
                    help="run each genome only as the shipped planners are deployed: on its "
                         "scan map behind the collision guard and a 45 deg rotation shim, with "

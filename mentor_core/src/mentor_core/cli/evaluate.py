@@ -302,7 +302,7 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         metavar="M",
         help="show the network only what lies within M m of its way to its goal (the carrot "
-        "with --scan-map or --global-plan; default: all)",
+        "with --scan-map or --global-plan; default: as trained, all for most genomes)",
     )
     p.add_argument(
         "--deployed",

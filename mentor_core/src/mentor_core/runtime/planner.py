@@ -84,8 +84,8 @@ def planner_profile(
     (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
     ``step_max`` and ``step_min`` (m; each the profile's when absent),
     ``clearance_margin`` (m; absent: none), ``feedback_action``, ``memory_units`` and
-    ``rotation_shim`` (rad) and ``proximity_scale`` (m) (absent: off, as every genome saved
-    before they existed) and ``control_period`` (s; absent: the robot's).
+    ``rotation_shim`` (rad), ``proximity_scale`` and ``view_margin`` (m) (absent: off, as
+    every genome saved before they existed) and ``control_period`` (s; absent: the robot's).
 
     ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
     (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
@@ -112,6 +112,7 @@ def planner_profile(
         rotation_shim=metadata.get("rotation_shim"),
         control_period=metadata.get("control_period"),
         proximity_scale=metadata.get("proximity_scale"),
+        view_margin=metadata.get("view_margin"),
         source=source,
     )
 

@@ -144,6 +144,11 @@ class TrainerConfig:
     """When set, the network reads each range r as the proximity exp(-r / proximity_scale), m
     (mentor_core.sim.observation.range_inputs; null: r in m, as in the paper), so that what
     lies far moves its inputs little; also written into the metadata."""
+    view_margin: Annotated[Float, Field(gt=0.0)] | None = None
+    """When set, the network sees only what lies within this distance of the segment to the
+    goal it is shown (the waypoint, in a guided scenario), m; other readings read as nothing
+    seen (mentor_core.sim.view_corridor; null: everything, as in the paper), as it sees on its
+    scan map when deployed with the corridor; also written into the metadata."""
     clearance_margin: Annotated[Float, Field(ge=0.0)] | None = None
     """When set, every step is shortened to the free range read ahead less this margin, m
     (mentor_core.sim.observation.clearance_limit; null: no such limit, as in the paper); also
@@ -228,6 +233,7 @@ class TrainerConfig:
             "rotation_shim": None if shim is None else math.radians(shim),
             "control_period": self.control_period,
             "proximity_scale": self.proximity_scale,
+            "view_margin": self.view_margin,
         }
 
     def to_dict(self) -> dict[str, Any]:

@@ -60,7 +60,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
     "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None, "control_period": None,
-    "proximity_scale": None,
+    "proximity_scale": None, "view_margin": None,
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -369,6 +369,7 @@ def _write_final_files(
                else {"control_period": profile.control_period}),
             **({} if profile.proximity_scale is None
                else {"proximity_scale": profile.proximity_scale}),
+            **({} if profile.view_margin is None else {"view_margin": profile.view_margin}),
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,
