@@ -27,7 +27,7 @@ a full turn, so the UGV's planners zig-zag wherever their 4 m sensors read anyth
 (``benchmarks/RESULTS.md``, "Where the UGV's full turns come from"); a proximity leaves what
 is far nearly unseen and what is near salient.
 
-A planner with a view corridor (``RobotProfile.view_margin``, a deployment option; not in the
+A planner with a view corridor (``RobotProfile.view_margin``, a planner setting; not in the
 paper) reads as nothing seen whatever lies farther than the margin from its way to the goal
 (:mod:`mentor_core.sim.view_corridor`), before either encoding.
 

@@ -122,8 +122,8 @@ class RobotProfile:
             instead of ``r`` in m, as in the paper (None). A planner's setting.
         view_margin: when set, the network sees only what lies within this distance of the
             segment to its goal, m; other readings read as nothing seen
-            (:mod:`mentor_core.sim.view_corridor`). None in the paper. A deployment option,
-            never trained with.
+            (:mod:`mentor_core.sim.view_corridor`). None in the paper. A planner's setting:
+            trained with (a training config's ``view_margin``) or added at deployment.
     """
 
     name: str

@@ -1,4 +1,4 @@
-"""A view corridor at deployment: the network sees only what lies near its way to the goal.
+"""A view corridor: the network sees only what lies near its way to the goal.
 
 Not in the paper; off by default (the planner setting ``RobotProfile.view_margin``, None). A
 reading whose hit point lies farther than the margin ``m`` from the segment from the robot to
@@ -11,14 +11,16 @@ with ``h_ij = p_i + r_i (cos a_ij, sin a_ij)`` the point at the reading's range 
 of sensor ``i`` (mount ``p_i``, facing ``a_ij``, every ray of a beam, since the reading may come
 from any of them) and ``[0, g]`` the segment from the robot's origin to the goal, both in the
 body frame. On a plan on the scan map (:mod:`mentor_core.navigation.scan_map`) the goal a
-network sees is the carrot, and the plan already keeps clear of what the robot has read; the
-network was trained without a plan and swerves from every wall it reads. With the corridor
-it reacts only to what stands in the way of the carrot. The collision guard
+network sees is the carrot, and the plan already keeps clear of what the robot has read; a
+network that sees every reading swerves from every wall it reads. With the corridor it
+reacts only to what stands in the way of the carrot (in training: of the goal or, in a
+guided scenario, the waypoint it is shown). The collision guard
 (:mod:`mentor_core.sim.collision_guard`) and the clearance limit still read every reading.
 
-Chosen on the benchmark's validation split for the shipped Swarm-Robot planners (0.1 m;
-``benchmarks/RESULTS.md``, "A view corridor"); it cost the UGV's planners goals, whose 4 m
-sensors read the walls they keep to.
+Chosen on the benchmark's validation split for the shipped Swarm-Robot planners (0.1 m, in
+training and at deployment; ``benchmarks/RESULTS.md``, "A view corridor" and "Trained with
+the view corridor"); it cost the UGV's planners goals either way, whose 4 m sensors read the
+walls they keep to.
 """
 
 from __future__ import annotations
