@@ -6,7 +6,13 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mentor_core.sim.kinematics import arc_fraction_poses, arc_samples, unicycle_arc, wrap_angle
+from mentor_core.sim.kinematics import (
+    arc_fraction_poses,
+    arc_samples,
+    to_body,
+    unicycle_arc,
+    wrap_angle,
+)
 
 finite = st.floats(-10.0, 10.0, allow_nan=False)
 
@@ -97,3 +103,16 @@ def test_compiled_arc_agrees_with_its_numpy_twin() -> None:
     np.testing.assert_allclose(compiled, loop, rtol=0, atol=1e-12)
     assert (compiled[:, 2] > -np.pi).all() and (compiled[:, 2] <= np.pi).all()
     np.testing.assert_array_equal(compiled[:100, 2], wrap_angle(args[2][:100]))
+
+
+def test_to_body_by_hand() -> None:
+    """A point ahead, to the left and behind a robot facing north, in its body frame."""
+    theta = np.full(3, np.pi / 2)
+    v = np.array([[0.0, 2.0], [-1.0, 0.0], [0.0, -3.0]])  # north, west, south (map)
+    np.testing.assert_allclose(to_body(theta, v), [[2.0, 0.0], [0.0, 1.0], [-3.0, 0.0]],
+                               atol=1e-12)  # fmt: skip
+    # a heading of zero leaves a vector as it is; the rotation keeps lengths
+    np.testing.assert_array_equal(to_body([0.0], [[1.5, -2.0]]), [[1.5, -2.0]])
+    rng = np.random.default_rng(0)
+    w = rng.normal(size=(20, 2))
+    np.testing.assert_allclose(np.hypot(*to_body(rng.uniform(-4, 4, 20), w).T), np.hypot(*w.T))

@@ -25,6 +25,15 @@ def wrap_angle(angles: ArrayLike) -> FloatArray:
     return np.pi - np.mod(np.pi - a, TWO_PI)
 
 
+def to_body(theta: ArrayLike, vectors: ArrayLike) -> FloatArray:
+    """Map-frame vectors (n, 2) in the body frames of headings ``theta`` (n,), rad: each
+    rotated by ``-theta``, ``(c x + s y, -s x + c y)``."""
+    t = np.asarray(theta, dtype=np.float64)
+    v = np.asarray(vectors, dtype=np.float64)
+    c, s = np.cos(t), np.sin(t)
+    return np.column_stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]])
+
+
 def _arc_points(
     x: FloatArray, y: FloatArray, theta: FloatArray, dtheta: FloatArray, ds: FloatArray
 ) -> FloatArray:

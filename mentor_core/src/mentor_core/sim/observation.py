@@ -75,7 +75,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.sim.kinematics import wrap_angle
+from mentor_core.sim.kinematics import to_body, wrap_angle
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.view_corridor import corridor_ranges
 
@@ -225,10 +225,8 @@ def egocentric_goal(poses: ArrayLike, goals: ArrayLike, goal_radius: float) -> F
     """
     unit, d = _goal_direction(poses, goals)
     theta = np.atleast_2d(np.asarray(poses, dtype=np.float64))[:, 2]
-    c, s = np.cos(theta), np.sin(theta)
     out = np.empty((unit.shape[0], 3), dtype=np.float64)
-    out[:, 0] = c * unit[:, 0] + s * unit[:, 1]
-    out[:, 1] = -s * unit[:, 0] + c * unit[:, 1]
+    out[:, :2] = to_body(theta, unit)
     out[:, 2] = goal_radius / np.maximum(d, goal_radius)
     return out
 
