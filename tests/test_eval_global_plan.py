@@ -149,13 +149,23 @@ def test_deployed_gives_the_swarm_robot_its_turn_gain_and_view_corridor(tmp_path
     common = [str(genome), "--robot", "swarm", "--seed", "3", "--n", "4", "--label", "ref"]
     flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
     layers = {"both": ["--turn-gain", "0.75", "--view-margin", "0.1"],
-              "gained": ["--turn-gain", "0.75"], "plain": []}  # fmt: skip
+              "gained": ["--turn-gain", "0.75"], "cornered": ["--view-margin", "0.1"],
+              "plain": []}  # fmt: skip
     for name, extra in layers.items():
         out = tmp_path / f"{name}.json"
         assert mentor_eval([*common, *flags, *extra, "--out", str(out)]) == 0
-    assert mentor_eval([*common, "--deployed", "--out", str(tmp_path / "d.json")]) == 0
-    both, gained, plain, deployed = (json.loads((tmp_path / f"{n}.json").read_text())["runs"]
-                                     for n in (*layers, "d"))  # fmt: skip
-    assert deployed[0]["results"] == both[1]["results"]
-    assert both[1]["results"] != gained[1]["results"]  # the corridor changes the runs
-    assert gained[1]["results"] != plain[1]["results"]  # and so does the gain
+    # --deployed as it is, and with each of its two layers left out
+    deployments = {"d": [], "d_gain1": ["--turn-gain", "1"],
+                   "d_nomargin": ["--view-margin", "none"]}  # fmt: skip
+    for name, extra in deployments.items():
+        out = tmp_path / f"{name}.json"
+        assert mentor_eval([*common, "--deployed", *extra, "--out", str(out)]) == 0
+    runs = {n: json.loads((tmp_path / f"{n}.json").read_text())["runs"]
+            for n in (*layers, *deployments)}  # fmt: skip
+    assert runs["d"][0]["results"] == runs["both"][1]["results"]
+    assert runs["d_gain1"][0]["results"] == runs["cornered"][1]["results"]
+    assert runs["d_nomargin"][0]["results"] == runs["gained"][1]["results"]
+    # the corridor changes the runs, and so does the gain
+    assert runs["both"][1]["results"] != runs["gained"][1]["results"]
+    assert runs["both"][1]["results"] != runs["cornered"][1]["results"]
+    assert runs["gained"][1]["results"] != runs["plain"][1]["results"]

@@ -86,7 +86,7 @@ def test_the_shipped_swarm_planners_are_deployed_with_their_gain() -> None:
         GenomePlanner.load(SWARM_PLANNER, "swarm", turn_gain=2.0)
 
 
-def test_the_command_lines_take_a_gain_and_refuse_it_beside_deployed(
+def test_the_command_lines_take_a_gain_and_one_beside_deployed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    check_deployment_flag("--turn-gain", 0.75, "1.5", "turn_gain", tmp_path, capsys)
+    check_deployment_flag("--turn-gain", 0.75, "1.5", "turn_gain", "1", tmp_path, capsys)

@@ -18,7 +18,7 @@ from mentor_core.errors import ConfigError
 from mentor_core.runtime.planner import GenomePlanner, deployed_view_margin
 from mentor_core.sim.observation import network_inputs
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
-from mentor_core.sim.view_corridor import corridor_ranges
+from mentor_core.sim.view_corridor import corridor_ranges, set_view_margin
 
 REPO = Path(__file__).resolve().parents[1]
 SWARM_PLANNER = REPO / "planners" / "swarm-paper-dual-s1.json"
@@ -101,18 +101,33 @@ def test_a_margin_that_is_not_positive_is_refused_naming_the_key(bad: object) ->
         with_planner(get_profile("swarm"), view_margin=bad, source="g.json")
 
 
+def test_set_view_margin_keeps_replaces_or_removes() -> None:
+    trained = with_planner(get_profile("swarm"), view_margin=0.1)
+    assert set_view_margin(trained, None) is trained
+    assert set_view_margin(trained, 0.3).view_margin == 0.3
+    assert set_view_margin(trained, math.inf).view_margin is None
+    with pytest.raises(ConfigError, match="view_margin"):
+        set_view_margin(trained, -1.0, "g.json")
+
+
 def test_the_shipped_swarm_planners_are_deployed_with_their_corridor() -> None:
     assert deployed_view_margin("swarm") == 0.1 and deployed_view_margin("ugv") is None
     assert as_deployed(evolved(SWARM_PLANNER, get_profile("swarm"))).profile.view_margin == 0.1
     ugv_planner = REPO / "planners" / "ugv-paper-dual-s1.json"
     assert as_deployed(evolved(ugv_planner, get_profile("ugv"))).profile.view_margin is None
+    # a shipped Swarm-Robot planner was trained with the corridor; inf (none) removes it
+    shipped = evolved(SWARM_PLANNER, get_profile("swarm"))
+    assert shipped.profile.view_margin == 0.1
+    assert as_deployed(shipped, view_margin=math.inf).profile.view_margin is None
+    unviewed = GenomePlanner.load(SWARM_PLANNER, "swarm", view_margin=math.inf)
+    assert unviewed.profile.view_margin is None
     loaded = GenomePlanner.load(SWARM_PLANNER, "swarm", view_margin=0.1)
     assert loaded.profile.view_margin == 0.1
     with pytest.raises(ConfigError, match="view_margin"):
         GenomePlanner.load(SWARM_PLANNER, "swarm", view_margin=-1.0)
 
 
-def test_the_command_lines_take_a_margin_and_refuse_it_beside_deployed(
+def test_the_command_lines_take_a_margin_and_none_beside_deployed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    check_deployment_flag("--view-margin", 0.1, "0", "view_margin", tmp_path, capsys)
+    check_deployment_flag("--view-margin", 0.1, "0", "view_margin", "none", tmp_path, capsys)

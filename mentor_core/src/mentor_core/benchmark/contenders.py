@@ -37,6 +37,7 @@ from mentor_core.runtime.planner import (
 )
 from mentor_core.sim.episode import InputGoals, Policy
 from mentor_core.sim.robots import RobotProfile, with_planner
+from mentor_core.sim.view_corridor import set_view_margin
 from mentor_core.sim.world import Scenario
 from mentor_core.training.assessment import check_compatible
 
@@ -110,12 +111,10 @@ def with_turn_gain(contender: Contender, gain: float) -> Contender:
 
 def with_view_margin(contender: Contender, margin: float | None) -> Contender:
     """``contender`` (an evolved planner) whose network sees only what lies within ``margin``
-    (m) of its way to its goal (:mod:`mentor_core.sim.view_corridor`; None: everything), its
-    name unchanged (``bench.json`` lists the margin among its settings). ConfigError for a
-    margin that is not positive."""
-    if margin is None:
-        return contender
-    profile = with_planner(contender.profile, view_margin=margin, source="view corridor")
+    (m) of its way to its goal (:mod:`mentor_core.sim.view_corridor`; None: as it was, ``inf``:
+    everything), its name unchanged (``bench.json`` lists the margin among its settings).
+    ConfigError for a margin that is not positive."""
+    profile = set_view_margin(contender.profile, margin, "view corridor")
     return dataclasses.replace(contender, profile=profile)
 
 
@@ -136,7 +135,7 @@ def as_deployed(
     :data:`DEPLOYED_SHIM_DEG`, with ``turn_gain`` on its network's turn (default its robot's:
     :func:`~mentor_core.runtime.planner.deployed_turn_gain`) and a view corridor of
     ``view_margin`` (default its robot's, if any:
-    :func:`~mentor_core.runtime.planner.deployed_view_margin`), named
+    :func:`~mentor_core.runtime.planner.deployed_view_margin`; ``inf``: none), named
     ``mapped-guard-shim-<name>`` (``mentor-bench --deployed``; the planner node's
     ``scan_map``, ``rotation_shim_deg``, ``collision_guard``, ``turn_gain`` and
     ``view_margin``)."""

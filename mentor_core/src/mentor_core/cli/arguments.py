@@ -70,24 +70,34 @@ def turn_gain_value(gain: float | None) -> float:
     return gain
 
 
+def view_margin(text: str) -> float:
+    """``--view-margin``'s text: a number of metres, or ``none`` (``inf``: no corridor, as
+    everything lies within an infinite margin); :func:`view_margin_value` checks it."""
+    if text.strip().lower() == "none":
+        return math.inf
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected metres or 'none', got {text!r}") from None
+
+
 def view_margin_value(margin: float | None) -> float | None:
-    """``--view-margin M`` as the profile's view corridor margin (None when not given);
-    MentorError unless M is a positive number of metres."""
-    if margin is not None and not (math.isfinite(margin) and margin > 0.0):
-        raise MentorError(f"--view-margin must be a positive number of metres, got {margin}")
+    """``--view-margin M`` as the profile's view corridor margin (None when not given; ``inf``
+    for ``none``); MentorError unless M is a positive number of metres."""
+    if margin is not None and not margin > 0.0:
+        raise MentorError(f"--view-margin must be a positive number of metres or 'none', "
+                          f"got {margin}")  # fmt: skip
     return margin
 
 
 def check_deployed(args: argparse.Namespace) -> None:
-    """MentorError when ``--deployed`` comes with one of the flags it sets itself
-    (``--scan-map``, ``--rotation-shim``, ``--collision-guard``, ``--turn-gain``,
-    ``--view-margin``)."""
+    """MentorError when ``--deployed`` comes with one of the flags that add the layers it
+    adds itself (``--scan-map``, ``--rotation-shim``, ``--collision-guard``); its gain on
+    the turn and view corridor may be replaced (``--turn-gain``, ``--view-margin``)."""
     if args.deployed and (args.scan_map or args.rotation_shim is not None
-                          or args.collision_guard or args.turn_gain is not None
-                          or args.view_margin is not None):  # fmt: skip
+                          or args.collision_guard):  # fmt: skip
         raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
-                          "--collision-guard, --turn-gain, --view-margin with it (it sets "
-                          "them all)")
+                          "--collision-guard with it (it adds them all)")
 
 
 def _whole(text: str, least: int, expected: str) -> int:

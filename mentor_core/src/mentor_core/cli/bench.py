@@ -54,6 +54,7 @@ from mentor_core.cli.arguments import (
     check_deployed,
     rotation_shim_threshold,
     turn_gain_value,
+    view_margin,
     view_margin_value,
 )
 from mentor_core.errors import MentorError, one_line
@@ -101,18 +102,20 @@ def build_parser() -> argparse.ArgumentParser:
                         "up when every arc ahead would hit, as guard-<label>")
     p.add_argument("--turn-gain", type=float, metavar="G",
                    help="scale each genome's turn by G in (0, 1] in all its runs "
-                        "(default 1: as trained)")
-    p.add_argument("--view-margin", type=float, metavar="M",
+                        "(default 1: as trained; with --deployed, its robot's)")
+    p.add_argument("--view-margin", type=view_margin, metavar="M",
                    help="show each genome's network only what lies within M m of its way "
-                        "to its goal (the carrot on a plan) in all its runs (default: as "
-                        "trained, all for most genomes)")
+                        "to its goal (the carrot on a plan) in all its runs; 'none': all "
+                        "(default: as trained, all for most genomes; with --deployed, its "
+                        "robot's)")
     p.add_argument("--deployed", action="store_true",
                    help="run each genome only as the shipped planners are deployed: on its "
                         "scan map behind the collision guard and a 45 deg rotation shim, with "
                         "its robot's gain on the turn and view corridor (Swarm-Robot 0.75 "
                         "and 0.1 m), as mapped-guard-shim-<label>; the baselines plain, "
                         "guarded, on their scan map and both (not with --scan-map, "
-                        "--rotation-shim, --collision-guard, --turn-gain or --view-margin)")
+                        "--rotation-shim or --collision-guard; --turn-gain and --view-margin "
+                        "replace its robot's)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
     p.add_argument("--baselines-chosen-on", type=Path, metavar="BENCH_JSON",
@@ -165,14 +168,15 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     if args.lookahead is not None and not (args.scan_map or args.deployed):
         raise MentorError("--lookahead: only with --scan-map or --deployed")
     check_deployed(args)
-    gain = turn_gain_value(args.turn_gain)
-    if gain != 1.0:
-        genomes = [with_turn_gain(c, gain) for c in genomes]
-    genomes = [with_view_margin(c, view_margin_value(args.view_margin)) for c in genomes]
-    if args.deployed:
-        chosen = [as_deployed(c, args.lookahead) for c in genomes]
+    gain = None if args.turn_gain is None else turn_gain_value(args.turn_gain)
+    margin = view_margin_value(args.view_margin)
+    if args.deployed:  # its robot's gain and corridor unless given
+        chosen = [as_deployed(c, args.lookahead, gain, margin) for c in genomes]
         chosen += _variants(baselines, True, True, args.lookahead)
     else:
+        if gain is not None and gain != 1.0:
+            genomes = [with_turn_gain(c, gain) for c in genomes]
+        genomes = [with_view_margin(c, margin) for c in genomes]
         shim = rotation_shim_threshold(args.rotation_shim)
         if shim is not None:
             genomes += [behind_rotation_shim(c, shim) for c in genomes]

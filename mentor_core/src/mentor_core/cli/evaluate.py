@@ -27,10 +27,12 @@ world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run besi
 the planner node's ``collision_guard`` does; ``--turn-gain`` scales the network's turn
 (:mod:`mentor_core.sim.turn_gain`), as the planner node's ``turn_gain`` does; ``--view-margin``
 shows the network only what lies near its way (:mod:`mentor_core.sim.view_corridor`), as the
-planner node's ``view_margin`` does. ``--deployed`` runs each genome only as the shipped
-planners are deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard, with the
-robot's gain on the turn and view corridor (the Swarm-Robot's 0.75 and 0.1 m), without the
-plain run (:func:`mentor_core.benchmark.contenders.as_deployed`).
+planner node's ``view_margin`` does (``--view-margin none`` shows it everything, even a genome
+trained with a corridor). ``--deployed`` runs each genome only as the shipped planners are
+deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard, with the robot's gain
+on the turn and view corridor (the Swarm-Robot's 0.75 and 0.1 m; ``--turn-gain`` and
+``--view-margin`` replace them, to leave one layer out), without the plain run
+(:func:`mentor_core.benchmark.contenders.as_deployed`).
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -58,6 +60,7 @@ from mentor_core.cli.arguments import (
     rotation_shim_threshold,
     seed,
     turn_gain_value,
+    view_margin,
     view_margin_value,
 )
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
@@ -80,6 +83,7 @@ from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
 from mentor_core.sim.scenarios import sample_scenarios, sample_world, start_overlap
+from mentor_core.sim.view_corridor import set_view_margin
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.assessment import TEST_TIME_LIMIT, Assessment, assess
 
@@ -295,14 +299,16 @@ def build_parser() -> argparse.ArgumentParser:
         "--turn-gain",
         type=float,
         metavar="G",
-        help="scale the network's turn by G in (0, 1] (default 1: as trained)",
+        help="scale the network's turn by G in (0, 1] (default 1: as trained; with "
+        "--deployed, the robot's)",
     )
     p.add_argument(
         "--view-margin",
-        type=float,
+        type=view_margin,
         metavar="M",
         help="show the network only what lies within M m of its way to its goal (the carrot "
-        "with --scan-map or --global-plan; default: as trained, all for most genomes)",
+        "with --scan-map or --global-plan); 'none': all (default: as trained, all for most "
+        "genomes; with --deployed, the robot's)",
     )
     p.add_argument(
         "--deployed",
@@ -310,7 +316,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="run each genome only as deployed: on the map of its own readings behind the "
         "rotation shim (45 deg) and the collision guard, with the robot's gain on the turn "
         "and view corridor (Swarm-Robot 0.75 and 0.1 m), without the plain run (not with "
-        "--scan-map, --rotation-shim, --collision-guard, --turn-gain or --view-margin)",
+        "--scan-map, --rotation-shim or --collision-guard; --turn-gain and --view-margin "
+        "replace the robot's)",
     )
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
@@ -368,8 +375,11 @@ def main(argv: list[str] | None = None) -> int:
         margin = view_margin_value(args.view_margin)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
-        if args.deployed:
-            gain, margin = deployed_turn_gain(profile), deployed_view_margin(profile)
+        if args.deployed:  # the robot's gain and corridor unless given
+            if args.turn_gain is None:
+                gain = deployed_turn_gain(profile)
+            if margin is None:
+                margin = deployed_view_margin(profile)
         numbers, skipped = runnable(profile, world, scenarios, source)
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
@@ -385,8 +395,7 @@ def main(argv: list[str] | None = None) -> int:
                 planner = with_planner(planner, collision_guard=True, source=path)
             if gain != 1.0:
                 planner = with_planner(planner, turn_gain=gain, source=path)
-            if margin is not None:
-                planner = with_planner(planner, view_margin=margin, source=path)
+            planner = set_view_margin(planner, margin, path)
             guide = guide_config(planner, lookahead=args.lookahead)
             mapped = scan_guide_config(planner, lookahead=args.lookahead)
             goals = [sc.goal for sc in chosen]

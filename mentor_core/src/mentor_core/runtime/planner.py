@@ -70,6 +70,7 @@ from mentor_core.sim.robots import (
 )
 from mentor_core.sim.rotation_shim import rotation_shim
 from mentor_core.sim.turn_gain import turn_gain
+from mentor_core.sim.view_corridor import set_view_margin
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -208,7 +209,8 @@ class GenomePlanner:
         (:mod:`mentor_core.sim.rotation_shim`); ``collision_guard`` behind a collision guard
         on no arena (:mod:`mentor_core.sim.collision_guard`); ``turn_gain`` scales its
         network's turn (:mod:`mentor_core.sim.turn_gain`); ``view_margin`` (m), when given,
-        shows its network only what lies near its way (:mod:`mentor_core.sim.view_corridor`).
+        shows its network only what lies near its way (:mod:`mentor_core.sim.view_corridor`;
+        ``inf``: everything, even for a genome trained with a corridor).
 
         FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
         that does not fit it, a threshold outside (0, pi], a gain outside (0, 1], a margin
@@ -222,8 +224,7 @@ class GenomePlanner:
             profile = with_planner(profile, collision_guard=True, source=genome_path)
         if turn_gain != 1.0:
             profile = with_planner(profile, turn_gain=turn_gain, source=genome_path)
-        if view_margin is not None:
-            profile = with_planner(profile, view_margin=view_margin, source=genome_path)
+        profile = set_view_margin(profile, view_margin, genome_path)
         return cls(genome, profile, source=str(genome_path))
 
     def decide(

@@ -25,10 +25,15 @@ walls they keep to.
 
 from __future__ import annotations
 
-import numpy as np
-from numpy.typing import ArrayLike, NDArray
+import dataclasses
+import math
+from pathlib import Path
 
-from mentor_core.sim.robots import RobotProfile
+import numpy as np
+from numpy.typing import NDArray
+
+from mentor_core.sim.kinematics import to_body
+from mentor_core.sim.robots import RobotProfile, with_planner
 
 FloatArray = NDArray[np.float64]
 
@@ -43,7 +48,8 @@ def corridor_ranges(
     margin = profile.view_margin
     if margin is None:
         return ranges
-    goal = _goal_in_body(poses, goals)  # (n, 2)
+    p = np.asarray(poses, dtype=np.float64)
+    goal = to_body(p[:, 2], np.asarray(goals, dtype=np.float64) - p[:, :2])  # (n, 2)
     length = np.hypot(goal[:, 0], goal[:, 1])
     unit = np.divide(goal, length[:, None], out=np.zeros_like(goal), where=length[:, None] > 0)
     mounts = profile.sensor_mounts
@@ -58,9 +64,15 @@ def corridor_ranges(
     return np.where(outside, profile.sensor_range, ranges)
 
 
-def _goal_in_body(poses: ArrayLike, goals: ArrayLike) -> FloatArray:
-    """The goals (n, 2) in the body frames of ``poses`` (n, 3), m."""
-    p = np.asarray(poses, dtype=np.float64)
-    v = np.asarray(goals, dtype=np.float64) - p[:, :2]
-    c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
-    return np.column_stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]])
+
+def set_view_margin(
+    profile: RobotProfile, margin: float | None, source: str | Path = ""
+) -> RobotProfile:
+    """``profile`` with a view corridor of ``margin`` m: None keeps the profile's own, ``inf``
+    (everything lies within it) removes any, a positive number replaces it; ConfigError naming
+    ``source`` for any other (:func:`~mentor_core.sim.robots.with_planner`)."""
+    if margin is None:
+        return profile
+    if margin == math.inf:
+        return dataclasses.replace(profile, view_margin=None)
+    return with_planner(profile, view_margin=margin, source=source)
