@@ -4,6 +4,8 @@
     mentor-bench a.json b.json --robot swarm --split test --pairs-per-family 40 --out bench/sw
     mentor-bench --robot ugv --families rooms,maze --pairs-per-family 5     # baselines only
     mentor-bench planners/ugv-paper-dual-s1.json --robot ugv --deployed    # as deployed
+    mentor-bench planners/swarm-paper-dual-s1.json --robot swarm --deployed --turn-gain 1
+                                                    # as deployed but for the gain on the turn
 
 Runs each genome (with the planner settings of its metadata, as mentor-eval), the baselines
 (``vfh``, ``bug``) and the oracle on the seeded world families of a split (validation by
