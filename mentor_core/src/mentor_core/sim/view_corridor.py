@@ -64,7 +64,6 @@ def corridor_ranges(
     return np.where(outside, profile.sensor_range, ranges)
 
 
-
 def set_view_margin(
     profile: RobotProfile, margin: float | None, source: str | Path = ""
 ) -> RobotProfile:
