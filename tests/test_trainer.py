@@ -131,7 +131,8 @@ def test_resume_checks_the_sensors_and_takes_older_checkpoints(
     # written before the sensor record and the newer config keys: resumed as it was meant
     del state["sensors"]
     for key in ("training_worlds", "step_max", "step_min", "clearance_margin", "doe",
-                "novelty_neighbours", "novelty_archive_growth", "success_credit", "guide"):
+                "novelty_neighbours", "novelty_archive_growth", "success_credit", "guide",
+                "refinement"):
         del state["config"][key]
     del state["config"]["evolution"]["mutation"]["recurrent_rate"]
     checkpoint.write_text(json.dumps(state))
@@ -174,6 +175,10 @@ def test_pool_backend_is_bit_identical_to_in_process(extra: dict[str, object]) -
         ({"n_scenarios": 2, "training_worlds": 3}, "training_worlds"),
         ({"doe": {"wall_count": [3, 1]}}, "doe.wall_count"),
         ({"doe": [1, 2]}, "doe"),
+        ({"refinement": {"worlds": 9, "scenarios": 8}}, "refinement.worlds"),
+        ({"refinement": {"iterations": -1}}, "refinement.iterations"),
+        ({"refinement": {"weight_rate": 1.5}}, "refinement.weight_rate"),
+        ({"refinement": {"bogus": 1}}, "refinement.bogus"),
     ],
 )
 def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:

@@ -37,7 +37,7 @@ from mentor_core.training.config import (
     with_overrides,
 )
 from mentor_core.training.evaluators import make_evaluator
-from mentor_core.training.progress import GenerationProgress
+from mentor_core.training.progress import GenerationProgress, RefinementLines
 from mentor_core.training.run_directory import open_run
 from mentor_core.training.trainer import make_problem, train
 
@@ -147,6 +147,7 @@ def _run(args: argparse.Namespace) -> int:
                     evaluator=evaluator,
                     resume=args.resume,
                     callbacks=[] if args.quiet else [stack.enter_context(progress)],
+                    refine_progress=None if args.quiet else RefinementLines(),
                 )
     except KeyboardInterrupt as stop:
         how = "terminated (SIGTERM)" if isinstance(stop, Terminated) else "interrupted"

@@ -37,6 +37,7 @@ from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
 from mentor_core.training.problem import GoalDistanceKind, Guide, SuccessCredit, TurnFrame
+from mentor_core.training.refinement import RefinementConfig
 from mentor_core.validation import (
     Bool,
     Float,
@@ -184,6 +185,10 @@ class TrainerConfig:
     evolution: EvolutionConfig = field(default_factory=EvolutionConfig)
     """The MENTOR evolution parameters (population, rates, speciation); in a config file a
     mapping of the keys that differ from the robot's paper values (Table I)."""
+    refinement: RefinementConfig = field(default_factory=RefinementConfig)
+    """After evolution, the best genome's weights refined on fresh training scenarios, goals
+    reached held and the path credit raised (mentor_core.training.refinement; not in the
+    paper, off by default); in a config file a mapping of the keys to change."""
 
     @model_validator(mode="after")
     def _consistent(self) -> TrainerConfig:
@@ -255,8 +260,9 @@ class TrainerConfig:
                 merge_mappings(base, evolution)
             if evolution is None or isinstance(evolution, dict):
                 data["evolution"] = base
-            if "doe" in data and data["doe"] is None:
-                data["doe"] = {}
+            for key in ("doe", "refinement"):
+                if key in data and data[key] is None:
+                    data[key] = {}
         return validate(cls, data, source)
 
     @classmethod

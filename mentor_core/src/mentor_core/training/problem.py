@@ -157,7 +157,7 @@ class NavigationProblem:
         )  # fmt: skip
         # the shortest paths' lengths (m) for the path credit, computed once
         self._shortest = (
-            _shortest_lengths(self.scenarios, profile) if success_credit == "path" else None
+            shortest_lengths(self.scenarios, profile) if success_credit == "path" else None
         )
         self._to_goal: tuple[GoalDistance, ...] = ()
         if goal_distance == "geodesic":
@@ -294,7 +294,7 @@ class NavigationProblem:
         return out
 
 
-def _shortest_lengths(scenarios: Sequence[Scenario], profile: RobotProfile) -> NDArray[np.float64]:
+def shortest_lengths(scenarios: Sequence[Scenario], profile: RobotProfile) -> NDArray[np.float64]:
     """Per scenario the length of the shortest path of the body's circumscribed disc into the
     goal radius (m; the benchmark's ``BenchPair.shortest``), the straight distance into the
     goal radius where there is none."""

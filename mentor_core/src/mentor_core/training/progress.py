@@ -5,6 +5,8 @@ and remaining time, the last generation's best/mean F, best G and ranking mode);
 log (a file, a pipe, CI) it prints one plain line per generation instead, so that a log holds
 the run's history. Like the reporters of ``mentor_core.evolution.reporting`` it only observes:
 the trainer calls it after each generation's checkpoint (``train(..., callbacks=[progress])``).
+:class:`RefinementLines` prints the refinement's progress after evolution, a line every ten
+iterations.
 """
 
 from __future__ import annotations
@@ -105,4 +107,24 @@ class GenerationProgress:
         self._progress.update(self._task, completed=rec.generation + 1, numbers=numbers)
 
 
-__all__ = ["GenerationProgress", "generation_line"]
+def refinement_line(iteration: int, total: int, reached: int, credit: float) -> str:
+    """One refinement iteration's numbers on one line (``mentor_core.training.refinement``):
+    goals reached and path credit on the refinement scenarios."""
+    return f"refine {iteration:>4}/{total} | reached {reached:>4} | path credit {credit:9.3f}"
+
+
+class RefinementLines:
+    """Prints :func:`refinement_line` every ``every`` iterations and at the last, to ``stream``
+    (default stderr): a ``refine_progress`` for ``train``."""
+
+    def __init__(self, every: int = 10, stream: TextIO | None = None) -> None:
+        self.every = every
+        self.stream = stream
+
+    def __call__(self, iteration: int, total: int, reached: int, credit: float) -> None:
+        if iteration % self.every == 0 or iteration == total:
+            line = refinement_line(iteration, total, reached, credit)
+            print(line, file=self.stream or sys.stderr, flush=True)
+
+
+__all__ = ["GenerationProgress", "RefinementLines", "generation_line", "refinement_line"]

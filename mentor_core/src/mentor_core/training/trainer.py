@@ -6,7 +6,9 @@
   starting from the best ``stage2_seed_fraction`` of stage 1's final population by F.
 
 Both frameworks see the same scenarios and the same number of evaluations (population size x
-generations), so their histories share one axis. A run is a directory (see
+generations), so their histories share one axis. With ``refinement.iterations`` set (not in
+the paper), the best genome written at the end is the evolved best with its weights refined
+(:mod:`~mentor_core.training.refinement`). A run is a directory (see
 :class:`~mentor_core.training.run_files.RunPaths`); a checkpoint is written atomically after
 every generation and ``resume`` (``mentor-train --resume``) continues from it, ending identical
 to an unbroken run with the same seed. A run directory has one writer at a time
@@ -39,6 +41,7 @@ from mentor_core.training.config import TrainerConfig
 from mentor_core.training.curriculum import family_scenarios, unseen_distances
 from mentor_core.training.evaluators import Evaluator, InProcessEvaluator
 from mentor_core.training.problem import OBJECTIVE_NAMES, Evaluation, NavigationProblem
+from mentor_core.training.refinement import Progress, Refinement, RefinementConfig, refine
 from mentor_core.training.run_directory import RunDirectory, open_run
 from mentor_core.training.run_files import (
     GenerationRecord,
@@ -49,6 +52,7 @@ from mentor_core.training.run_files import (
     pareto_json,
     population_json,
 )
+from mentor_core.validation import to_plain
 
 CHECKPOINT_FORMAT = "mentor-train-checkpoint"
 CHECKPOINT_VERSION = 1
@@ -60,7 +64,7 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "goal_distance": "euclidean", "turn_commitment": False, "turn_frame": "body",
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
     "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None, "control_period": None,
-    "proximity_scale": None, "view_margin": None,
+    "proximity_scale": None, "view_margin": None, "refinement": to_plain(RefinementConfig()),
 }
 # the same for keys of the evolution's mutation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
@@ -152,6 +156,7 @@ class _Run:
         self.history: list[GenerationRecord] = []
         # behaviours of past generations' most novel genomes (novelty search only)
         self.archive = np.zeros((0, 2 * len(problem.scenarios)), dtype=np.float64)
+        self.refine_progress: Progress | None = None
 
     def ranked_objectives(self, evaluation: Evaluation, mode: Mode) -> np.ndarray:
         """What the evolution is told: (F, G), and with novelty search each genome's novelty
@@ -220,6 +225,7 @@ def train(
     resume: bool = False,
     callbacks: Sequence[Callback] = (),
     stop_after: int | None = None,
+    refine_progress: Progress | None = None,
 ) -> TrainResult:
     """Train a planner; returns when all generations ran (or ``stop_after`` generations).
 
@@ -227,7 +233,8 @@ def train(
     evolution (ranking by (F, G) in stage 1 of dual-stage, by F otherwise), which speciates,
     sizes the niches and breeds; at the end of dual stage 1, reseed from its best by F;
     record the history row; write the history, after the last generation the final files, and
-    the checkpoint, each atomically; call the callbacks.
+    the checkpoint, each atomically; call the callbacks. The best genome is refined before it
+    is written when the config asks (``refine_progress`` is called after each iteration).
 
     ``out_dir`` is opened with :func:`~mentor_core.training.run_directory.open_run` (locked
     for the whole run; ``resume`` continues the run in it), unless it is a directory opened
@@ -240,9 +247,11 @@ def train(
     if isinstance(out_dir, RunDirectory):
         if out_dir.resume != resume:
             raise ValueError(f"resume={resume} but the run directory was opened otherwise")
-        return _train(config, out_dir, seed, problem, evaluator, callbacks, stop_after)
+        return _train(config, out_dir, seed, problem, evaluator, callbacks, stop_after,
+                      refine_progress)
     with open_run(out_dir, resume=resume) as run_dir:
-        return _train(config, run_dir, seed, problem, evaluator, callbacks, stop_after)
+        return _train(config, run_dir, seed, problem, evaluator, callbacks, stop_after,
+                      refine_progress)
 
 
 def _train(
@@ -253,10 +262,12 @@ def _train(
     evaluator: Evaluator | None,
     callbacks: Sequence[Callback],
     stop_after: int | None,
+    refine_progress: Progress | None = None,
 ) -> TrainResult:
     """:func:`train` in an opened run directory."""
     paths = run_dir.paths
     run = _Run(config, seed, problem)
+    run.refine_progress = refine_progress
     config_text = yaml.safe_dump({"seed": seed, **config.to_dict()})
     if paths.checkpoint.exists():  # open_run lets only a resume come this far
         run.load_state(load_json(paths.checkpoint), paths.checkpoint)
@@ -349,8 +360,9 @@ def _write_final_files(
     if config.framework == "single":
         write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, 0))
     best_genome, best_obj = run.evolution.best()
+    refined = _refined(run, best_genome)
     save_genome(
-        best_genome,
+        best_genome if refined is None else refined.genome,
         paths.best_genome,
         metadata={
             "robot": config.robot,
@@ -373,9 +385,37 @@ def _write_final_files(
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,
+            # the evolved genome's; a refined one's weights moved since
             "objectives": dict(zip(OBJECTIVE_NAMES, map(float, best_obj), strict=False)),
+            **({} if refined is None else {"refinement": {
+                "iterations": config.refinement.iterations,
+                "scenarios": config.refinement.scenarios,
+                "scenario_seed": config.refinement.scenario_seed,
+                "accepted": refined.accepted,
+                "reached": [refined.reached_before, refined.reached],
+                "path_credit": [refined.credit_before, refined.credit],
+            }}),
         },
     )
+
+
+#: the refinement's random stream, apart from the evolution's (same run seed)
+_REFINEMENT_STREAM = 1
+
+
+def _refined(run: _Run, genome: Genome) -> Refinement | None:
+    """``genome`` refined as the run's config asks (None when it does not): on the
+    refinement scenarios of the config (:mod:`~mentor_core.training.refinement`), with the
+    run's seed."""
+    cfg = run.config.refinement
+    if cfg.iterations == 0:
+        return None
+    scenarios = dataclasses.replace(
+        run.config, scenario_seed=cfg.scenario_seed, n_scenarios=cfg.scenarios,
+        training_worlds=cfg.worlds, time_budget=cfg.time_budget,
+    )  # fmt: skip
+    rng = np.random.default_rng((run.seed, _REFINEMENT_STREAM))
+    return refine(genome, make_problem(scenarios), cfg, rng, run.refine_progress)
 
 
 def _complete(run: _Run, paths: RunPaths, evaluator: Evaluator) -> tuple[Path, ...]:
