@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from run_support import TINY
 
+import mentor_core.training.trainer as trainer_module
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.objectives.performance import path_credit
 from mentor_core.training.config import TrainerConfig, shipped_config
@@ -109,3 +110,22 @@ def test_mentor_train_prints_the_refinement_and_records_it(
     assert meta["refinement"]["iterations"] == 10
     assert main([*args, "--resume"]) == 0  # a finished run: nothing refined again
     assert "refine" not in capsys.readouterr().err
+
+
+def test_refinement_worlds_of_the_named_families_are_added(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    seen: list[int] = []
+
+    def counting(genome, problem, cfg, rng, progress=None):  # type: ignore[no-untyped-def]
+        seen.append(len(problem.scenarios))
+        return refine(genome, problem, cfg, rng, progress)
+
+    monkeypatch.setattr(trainer_module, "refine", counting)
+    config = tiny(refinement={**SMALL, "iterations": 1, "families": ["rooms", "slalom"],
+                              "family_pairs": 2})  # fmt: skip
+    train(config, tmp_path, seed=1)
+    assert seen == [SMALL["scenarios"] + 2 * 2]  # a world of each family, 2 pairs each
+    _, meta = load_genome_and_metadata(tmp_path / "best_genome.json")
+    assert (meta["refinement"]["families"], meta["refinement"]["family_pairs"]) == (
+        ["rooms", "slalom"], 2)  # fmt: skip

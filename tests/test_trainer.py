@@ -179,6 +179,7 @@ def test_pool_backend_is_bit_identical_to_in_process(extra: dict[str, object]) -
         ({"refinement": {"iterations": -1}}, "refinement.iterations"),
         ({"refinement": {"weight_rate": 1.5}}, "refinement.weight_rate"),
         ({"refinement": {"bogus": 1}}, "refinement.bogus"),
+        ({"refinement": {"families": ["caves"]}}, "refinement.families"),
     ],
 )
 def test_bad_config_names_the_key(changes: dict[str, object], key: str) -> None:

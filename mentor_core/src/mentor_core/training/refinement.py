@@ -2,10 +2,11 @@
 
 After evolution, the run's best genome is refined on training scenarios it was not evolved
 on: more of them, in more worlds, drawn by the training generator from another seed (never
-the benchmark's validation or test pairs) and given the benchmark's 50 s. Each iteration
-draws ``offspring`` copies of the current genome with NEAT's weight perturbation (each
-connection weight, with probability ``weight_rate``, plus N(0, ``weight_sigma``); the
-topology stays) and moves to the copy of the highest path credit
+the benchmark's validation or test pairs) and given the benchmark's 50 s; ``families`` adds
+a world of each structured family named, drawn from the training seeds as a curriculum's.
+Each iteration draws ``offspring`` copies of the current genome with NEAT's weight
+perturbation (each connection weight, with probability ``weight_rate``, plus
+N(0, ``weight_sigma``); the topology stays) and moves to the copy of the highest path credit
 
     C = sum_i delta_i l_i / max(p_i, l_i)
 
@@ -35,8 +36,9 @@ from pydantic import Field, model_validator
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.mutation import MutationConfig, mutate_weights
 from mentor_core.objectives.performance import path_credit
+from mentor_core.sim.families import FAMILIES
 from mentor_core.training.problem import NavigationProblem, shortest_lengths
-from mentor_core.validation import Float, Int, config_dataclass, fault
+from mentor_core.validation import Float, Int, Str, config_dataclass, fault
 
 #: called after each iteration with (iteration, iterations, goals reached, path credit)
 Progress = Callable[[int, int, int, float], None]
@@ -64,9 +66,22 @@ class RefinementConfig:
     """Probability that a connection weight of a copy is perturbed."""
     weight_sigma: Annotated[Float, Field(gt=0.0)] = 0.15
     """Standard deviation of a weight's perturbation."""
+    families: tuple[Str, ...] = ()
+    """Structured worlds added to the refinement scenarios: one world of each named family
+    (mentor_core.sim.families) with family_pairs pairs, drawn from the training seeds
+    (mentor_core.training.curriculum), never the benchmark's; none by default."""
+    family_pairs: Annotated[Int, Field(ge=1)] = 30
+    """Start/goal pairs in each family's refinement world."""
 
     @model_validator(mode="after")
     def _consistent(self) -> RefinementConfig:
+        unknown = [f for f in self.families if f not in FAMILIES]
+        if unknown or len(set(self.families)) != len(self.families):
+            raise fault(
+                "families",
+                f"must be distinct world families of {', '.join(FAMILIES)}, "
+                f"got {list(self.families)}",
+            )
         if self.worlds > self.scenarios:
             raise fault(
                 "worlds", f"must be in [1, scenarios] ({self.scenarios}), got {self.worlds}"

@@ -391,6 +391,9 @@ def _write_final_files(
                 "iterations": config.refinement.iterations,
                 "scenarios": config.refinement.scenarios,
                 "scenario_seed": config.refinement.scenario_seed,
+                **({"families": list(config.refinement.families),
+                    "family_pairs": config.refinement.family_pairs}
+                   if config.refinement.families else {}),
                 "accepted": refined.accepted,
                 "reached": [refined.reached_before, refined.reached],
                 "path_credit": [refined.credit_before, refined.credit],
@@ -405,14 +408,17 @@ _REFINEMENT_STREAM = 1
 
 def _refined(run: _Run, genome: Genome) -> Refinement | None:
     """``genome`` refined as the run's config asks (None when it does not): on the
-    refinement scenarios of the config (:mod:`~mentor_core.training.refinement`), with the
-    run's seed."""
+    refinement scenarios of the config (:mod:`~mentor_core.training.refinement`: the training
+    draw from its own seed, count, worlds and budget, the training's and its own families'
+    worlds at its family_pairs), with the run's seed."""
     cfg = run.config.refinement
     if cfg.iterations == 0:
         return None
     scenarios = dataclasses.replace(
         run.config, scenario_seed=cfg.scenario_seed, n_scenarios=cfg.scenarios,
         training_worlds=cfg.worlds, time_budget=cfg.time_budget,
+        families=tuple(dict.fromkeys(run.config.families + cfg.families)),
+        family_pairs=cfg.family_pairs if cfg.families else run.config.family_pairs,
     )  # fmt: skip
     rng = np.random.default_rng((run.seed, _REFINEMENT_STREAM))
     return refine(genome, make_problem(scenarios), cfg, rng, run.refine_progress)
