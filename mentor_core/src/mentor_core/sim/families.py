@@ -374,3 +374,11 @@ FAMILIES: dict[str, tuple[int, Family]] = {
     "maze": (8, maze),
     "doe": (9, doe),
 }
+
+
+def family_names_fault(names: Sequence[str]) -> str | None:
+    """Why ``names`` is not a list of distinct families of :data:`FAMILIES` (a config key's
+    message), or None when it is."""
+    if any(f not in FAMILIES for f in names) or len(set(names)) != len(names):
+        return f"must be distinct world families of {', '.join(FAMILIES)}, got {list(names)}"
+    return None

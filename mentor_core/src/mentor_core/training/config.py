@@ -33,7 +33,7 @@ from pydantic import Field, model_validator
 from mentor_core.errors import ConfigError
 from mentor_core.evolution.config import EvolutionConfig, Robot
 from mentor_core.evolution.loop import Mode
-from mentor_core.sim.families import FAMILIES
+from mentor_core.sim.families import family_names_fault
 from mentor_core.sim.robots import MAX_MEMORY_UNITS, InputEncoding
 from mentor_core.sim.scenarios import DoEConfig
 from mentor_core.training.problem import GoalDistanceKind, Guide, SuccessCredit, TurnFrame
@@ -199,13 +199,9 @@ class TrainerConfig:
                 f"must be below generations ({self.generations}) in the dual framework, "
                 f"got {self.stage1_generations}",
             )
-        unknown = [f for f in self.families if f not in FAMILIES]
-        if unknown or len(set(self.families)) != len(self.families):
-            raise fault(
-                "families",
-                f"must be distinct world families of {', '.join(FAMILIES)}, "
-                f"got {list(self.families)}",
-            )
+        why = family_names_fault(self.families)
+        if why:
+            raise fault("families", why)
         if self.n_scenarios is not None and self.training_worlds > self.n_scenarios:
             raise fault(
                 "training_worlds",

@@ -36,7 +36,7 @@ from pydantic import Field, model_validator
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.mutation import MutationConfig, mutate_weights
 from mentor_core.objectives.performance import path_credit
-from mentor_core.sim.families import FAMILIES
+from mentor_core.sim.families import family_names_fault
 from mentor_core.training.problem import NavigationProblem, shortest_lengths
 from mentor_core.validation import Float, Int, Str, config_dataclass, fault
 
@@ -75,13 +75,9 @@ class RefinementConfig:
 
     @model_validator(mode="after")
     def _consistent(self) -> RefinementConfig:
-        unknown = [f for f in self.families if f not in FAMILIES]
-        if unknown or len(set(self.families)) != len(self.families):
-            raise fault(
-                "families",
-                f"must be distinct world families of {', '.join(FAMILIES)}, "
-                f"got {list(self.families)}",
-            )
+        why = family_names_fault(self.families)
+        if why:
+            raise fault("families", why)
         if self.worlds > self.scenarios:
             raise fault(
                 "worlds", f"must be in [1, scenarios] ({self.scenarios}), got {self.worlds}"
