@@ -14,7 +14,7 @@ from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.objectives.performance import path_credit
 from mentor_core.training.config import TrainerConfig, shipped_config
 from mentor_core.training.problem import shortest_lengths
-from mentor_core.training.refinement import RefinementConfig, refine
+from mentor_core.training.refinement import RefinementConfig, chosen, refine
 from mentor_core.training.trainer import make_problem, train
 
 PLANNERS = Path(__file__).resolve().parents[1] / "planners"
@@ -57,6 +57,14 @@ def test_refinement_keeps_the_topology_and_never_loses_goals_or_credit(
     assert [c.innovation for c in result.genome.connections] == [
         c.innovation for c in genome.connections]  # fmt: skip
     assert result.genome.nodes == genome.nodes
+
+
+def test_a_copy_that_loses_a_goal_is_never_chosen_whatever_its_credit() -> None:
+    reached, credit = np.array([9, 10, 11, 10]), np.array([9.5, 8.0, 7.0, 8.0])
+    assert chosen(reached, credit, goals=10, score=6.0) == 1  # not 0: one goal fewer
+    assert chosen(reached, credit, goals=10, score=8.0) is None  # none above the credit
+    assert chosen(reached, credit, goals=12, score=0.0) is None  # none keeps the goals
+    assert chosen(reached, credit, goals=0, score=0.0) == 0
 
 
 def test_refinement_is_deterministic_and_off_at_zero_iterations(

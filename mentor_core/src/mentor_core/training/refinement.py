@@ -123,15 +123,25 @@ def refine(
             for _ in range(config.offspring)
         ]  # fmt: skip
         reached, credit = _score(problem, copies, shortest)
-        allowed = np.flatnonzero(reached >= goals)
-        if len(allowed):
-            j = int(allowed[np.argmax(credit[allowed])])  # the first of equals
-            if credit[j] > score:
-                best, goals, score = copies[j], int(reached[j]), float(credit[j])
-                accepted += 1
+        j = chosen(reached, credit, goals, score)
+        if j is not None:
+            best, goals, score = copies[j], int(reached[j]), float(credit[j])
+            accepted += 1
         if progress is not None:
             progress(it + 1, config.iterations, goals, score)
     return Refinement(best, first[0], goals, first[1], score, accepted)
+
+
+def chosen(
+    reached: np.ndarray, credit: np.ndarray, goals: int, score: float
+) -> int | None:
+    """The copy to move to (module docstring): of the copies that reach at least ``goals``,
+    the first of the highest ``credit``, if that is above ``score``; else None."""
+    allowed = np.flatnonzero(np.asarray(reached) >= goals)
+    if not len(allowed):
+        return None
+    j = int(allowed[np.argmax(np.asarray(credit)[allowed])])
+    return j if credit[j] > score else None
 
 
 def _score(
@@ -146,4 +156,4 @@ def _score(
     return batch.reached.reshape(len(genomes), n).sum(axis=1), terms.sum(axis=1)
 
 
-__all__ = ["Progress", "Refinement", "RefinementConfig", "refine"]
+__all__ = ["Progress", "Refinement", "RefinementConfig", "chosen", "refine"]
