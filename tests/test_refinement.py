@@ -125,9 +125,11 @@ def test_refinement_worlds_of_the_named_families_are_added(
 ) -> None:
     seen: list[int] = []
 
-    def counting(genome, problem, cfg, rng, progress=None):  # type: ignore[no-untyped-def]
+    def counting(  # type: ignore[no-untyped-def]
+        genome, problem, cfg, rng, progress=None, mutation=None
+    ):
         seen.append(len(problem.scenarios))
-        return refine(genome, problem, cfg, rng, progress)
+        return refine(genome, problem, cfg, rng, progress, mutation)
 
     monkeypatch.setattr(trainer_module, "refine", counting)
     config = tiny(refinement={**SMALL, "iterations": 1, "families": ["rooms", "slalom"],

@@ -104,12 +104,14 @@ def refine(
     config: RefinementConfig,
     rng: np.random.Generator,
     progress: Progress | None = None,
+    evolution_mutation: MutationConfig | None = None,
 ) -> Refinement:
     """Refine ``genome``'s weights on ``problem``'s scenarios (module docstring); the same
-    ``rng`` state gives the same genome. ``weight_max`` clips as in evolution."""
+    ``rng`` state gives the same genome. Weights are clipped to ``evolution_mutation``'s
+    ``weight_max``, the run's (default: NEAT's defaults)."""
     shortest = shortest_lengths(problem.scenarios, problem.profile)
     mutation = dataclasses.replace(
-        MutationConfig(), weight_rate=config.weight_rate,
+        evolution_mutation or MutationConfig(), weight_rate=config.weight_rate,
         weight_perturb_sigma=config.weight_sigma, weight_replace_rate=0.0,
     )  # fmt: skip
     reached, credit = _score(problem, [genome], shortest)

@@ -421,7 +421,8 @@ def _refined(run: _Run, genome: Genome) -> Refinement | None:
         family_pairs=cfg.family_pairs if cfg.families else run.config.family_pairs,
     )  # fmt: skip
     rng = np.random.default_rng((run.seed, _REFINEMENT_STREAM))
-    return refine(genome, make_problem(scenarios), cfg, rng, run.refine_progress)
+    return refine(genome, make_problem(scenarios), cfg, rng, run.refine_progress,
+                  run.config.evolution.mutation)
 
 
 def _complete(run: _Run, paths: RunPaths, evaluator: Evaluator) -> tuple[Path, ...]:
