@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import csv
 import importlib
+import os
 import socket
 import subprocess
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -86,6 +87,11 @@ def ray_evaluator(problem: NavigationProblem) -> Iterator[RayEvaluator]:
     assert not ray.is_initialized(), "close() must shut down the Ray it started"
 
 
+@pytest.fixture
+def ray_evaluator_or_none(request: pytest.FixtureRequest) -> RayEvaluator | None:
+    return request.getfixturevalue("ray_evaluator") if HAVE_RAY else None
+
+
 def assert_same(a: Evaluation, b: Evaluation) -> None:
     assert np.array_equal(a.objectives, b.objectives)
     assert np.array_equal(a.success_rate, b.success_rate)
@@ -122,6 +128,25 @@ def test_ray_is_bit_identical_to_in_process(
     assert ray_evaluator.describe().endswith("(1 node, 2 CPUs), 2 tasks a generation")
     assert_same(ray_evaluator.evaluate(genomes), serial)
     assert ray_evaluator.evaluate([]).objectives.shape == (0, 2)
+
+
+def lengths_and_pids(items: Sequence[int]) -> tuple[list[int], int]:
+    return [i * i for i in items], os.getpid()
+
+
+def test_map_chunks_runs_contiguous_chunks_in_order_on_the_workers(
+    problem: NavigationProblem, ray_evaluator_or_none: RayEvaluator | None
+) -> None:
+    items = list(range(7))
+    whole = InProcessEvaluator(problem).map_chunks(lengths_and_pids, items)
+    assert whole == [([i * i for i in items], os.getpid())]
+    with PoolEvaluator(problem, workers=2) as pool:
+        parts = pool.map_chunks(lengths_and_pids, items)
+        assert [v for values, _ in parts for v in values] == whole[0][0]
+        assert len(parts) == 2 and os.getpid() not in {pid for _, pid in parts}
+        assert pool.map_chunks(lengths_and_pids, items[:1]) == [([0], os.getpid())]
+    if ray_evaluator_or_none is not None:  # Ray's workers cannot import this test module
+        assert ray_evaluator_or_none.map_chunks(tuple, items) == [(0, 1, 2, 3), (4, 5, 6)]
 
 
 @needs_ray

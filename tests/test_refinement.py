@@ -10,9 +10,11 @@ import pytest
 from run_support import TINY
 
 import mentor_core.training.trainer as trainer_module
+from mentor_core.errors import ConfigError
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.objectives.performance import path_credit
 from mentor_core.training.config import TrainerConfig, shipped_config
+from mentor_core.training.evaluators import PoolEvaluator
 from mentor_core.training.problem import shortest_lengths
 from mentor_core.training.refinement import RefinementConfig, chosen, refine
 from mentor_core.training.trainer import make_problem, train
@@ -103,6 +105,38 @@ def test_a_refining_run_writes_the_refined_genome_and_resumes_to_it(tmp_path: Pa
         tmp_path / "a" / "best_genome.json").read_text()  # fmt: skip
 
 
+def test_a_run_spreads_the_refinement_over_its_workers_to_the_same_genome(
+    tmp_path: Path,
+) -> None:
+    config = tiny(refinement=SMALL)
+    train(config, tmp_path / "a", seed=3)
+    refining: list[int] = []
+    with PoolEvaluator(make_problem(config), workers=2) as pool:
+        spread = pool.map_chunks
+
+        def recorded(fn, items):  # type: ignore[no-untyped-def]
+            parts = spread(fn, items)
+            if fn.func.__name__ == "_score":  # not a generation's evaluate
+                refining.append(len(parts))
+            return parts
+
+        pool.map_chunks = recorded  # type: ignore[method-assign]
+        train(config, tmp_path / "b", seed=3, evaluator=pool)
+    assert refining == [2] * SMALL["iterations"]  # each iteration's copies on both workers
+    assert (tmp_path / "b" / "best_genome.json").read_bytes() == (
+        tmp_path / "a" / "best_genome.json").read_bytes()  # fmt: skip
+
+
+def test_refinement_worlds_that_cannot_be_drawn_fail_before_the_first_generation(
+    tmp_path: Path,
+) -> None:
+    # the Swarm-Robot's corridors world of the refinement seed holds fewer than 30 pairs
+    config = tiny(refinement={**SMALL, "families": ["corridors"], "family_pairs": 30})
+    with pytest.raises(ConfigError, match=r"refinement\.families: .*too few solvable"):
+        train(config, tmp_path / "run", seed=1)
+    assert not (tmp_path / "run").exists()  # nothing trained, nothing written
+
+
 def test_mentor_train_prints_the_refinement_and_records_it(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -114,10 +148,11 @@ def test_mentor_train_prints_the_refinement_and_records_it(
     assert main(args) == 0
     err = capsys.readouterr().err
     assert "refine   10/10 | reached" in err and "refine    5/10" not in err
+    assert "(G " in err and "as evolved, its weights refined since; genome" in err
     _, meta = load_genome_and_metadata(tmp_path / "run" / "best_genome.json")
     assert meta["refinement"]["iterations"] == 10
     assert main([*args, "--resume"]) == 0  # a finished run: nothing refined again
-    assert "refine" not in capsys.readouterr().err
+    assert "refine " not in capsys.readouterr().err
 
 
 def test_refinement_worlds_of_the_named_families_are_added(
@@ -126,10 +161,10 @@ def test_refinement_worlds_of_the_named_families_are_added(
     seen: list[int] = []
 
     def counting(  # type: ignore[no-untyped-def]
-        genome, problem, cfg, rng, progress=None, mutation=None
+        genome, problem, cfg, rng, progress=None, mutation=None, chunk_map=None
     ):
         seen.append(len(problem.scenarios))
-        return refine(genome, problem, cfg, rng, progress, mutation)
+        return refine(genome, problem, cfg, rng, progress, mutation, chunk_map)
 
     monkeypatch.setattr(trainer_module, "refine", counting)
     config = tiny(refinement={**SMALL, "iterations": 1, "families": ["rooms", "slalom"],

@@ -18,6 +18,7 @@ class ConfigError(MentorError, ValueError):
     """A configuration value or key is invalid."""
 
     def __init__(self, message: str, key: str | None = None, path: str | Path | None = None):
+        self.message = message
         self.key = key
         self.path = None if path is None else str(path)
         where = f"{self.path}: " if self.path else ""

@@ -162,8 +162,11 @@ def _run(args: argparse.Namespace) -> int:
     elif result.generations_run == 0:
         print(f"mentor-train: {args.out} holds a finished run; nothing to do", file=sys.stderr)
     f, g = result.best_objectives
-    print(f"mentor-train: best F {f:.3f} (G {g:.3f}); genome {result.paths.best_genome}",
-          file=sys.stderr)
+    # F and G are the evolved genome's; the refined one's goals and path credit are in its
+    # metadata and the refine lines
+    refined = " as evolved, its weights refined since" if config.refinement.iterations else ""
+    print(f"mentor-train: best F {f:.3f} (G {g:.3f}){refined}; genome "
+          f"{result.paths.best_genome}", file=sys.stderr)
     return 0
 
 

@@ -22,8 +22,9 @@ import socket
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
+from functools import partial
 from types import FrameType
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -32,6 +33,9 @@ from mentor_core.evolution.genome import Genome
 from mentor_core.training.child_processes import Reaper, die_with_parent, stop_pool
 from mentor_core.training.gain_overlap import GainOverlap, split_evenly
 from mentor_core.training.problem import Evaluation, GainScope, NavigationProblem
+
+Item = TypeVar("Item")
+Result = TypeVar("Result")
 
 
 def _concat(parts: Sequence[Evaluation], gains: GainScope) -> Evaluation:
@@ -61,6 +65,27 @@ class Evaluator:
         """Objectives and outcome rates for ``genomes``, row i for genome i; ``gains`` as
         :meth:`NavigationProblem.evaluate`: every backend gives the same numbers."""
         return self.problem.evaluate(genomes, gains)
+
+    #: chunks :meth:`map_chunks` splits its items into (one in process)
+    workers: int = 1
+
+    def map_chunks(
+        self, fn: Callable[[Sequence[Item]], Result], items: Sequence[Item]
+    ) -> list[Result]:
+        """``fn`` of contiguous chunks of ``items``, in order, a chunk per worker (one call in
+        process): for other work on genomes than :meth:`evaluate`, such as the refinement's.
+        ``fn`` must pickle (a module-level function, or a partial of one) and give each
+        item's result whatever its chunk."""
+        chunks = split_evenly(len(items), self.workers)
+        if len(chunks) <= 1:
+            return [fn(items)]
+        return self._map(fn, [items[lo:hi] for lo, hi in chunks])
+
+    def _map(
+        self, fn: Callable[[Sequence[Item]], Result], chunks: list[Sequence[Item]]
+    ) -> list[Result]:
+        """``fn`` of each chunk on the workers, in order (backends with workers)."""
+        raise NotImplementedError
 
     def describe(self) -> str:
         """Where the genomes are evaluated, in a few words (for a command's log)."""
@@ -143,14 +168,15 @@ class PoolEvaluator(Evaluator):
 
     def evaluate(self, genomes: Sequence[Genome], gains: GainScope = "all") -> Evaluation:
         """Evaluate contiguous chunks in parallel and concatenate them in order."""
-        chunks = split_evenly(len(genomes), self.workers)
-        if len(chunks) <= 1:
-            return self.problem.evaluate(genomes, gains)
         # the problem (a world and its scenarios) is small, so it travels with each chunk
-        futures = [
-            self._pool.submit(self.problem.evaluate, genomes[lo:hi], gains) for lo, hi in chunks
-        ]
-        return _concat([f.result() for f in futures], gains)
+        return _concat(self.map_chunks(partial(self.problem.evaluate, gains=gains), genomes),
+                       gains)
+
+    def _map(
+        self, fn: Callable[[Sequence[Item]], Result], chunks: list[Sequence[Item]]
+    ) -> list[Result]:
+        futures = [self._pool.submit(fn, chunk) for chunk in chunks]
+        return [f.result() for f in futures]
 
     def close(self) -> None:
         """Shut the pool down (after the chunks in progress)."""
@@ -293,6 +319,7 @@ class RayEvaluator(Evaluator):
             self.workers = workers or max(1, self._cpus)
             self._problem_ref = self._ray.put(problem)
             self._remote = self._ray.remote(_ray_evaluate)
+            self._call = self._ray.remote(_ray_call)
         except BaseException:
             self.close()
             raise
@@ -353,6 +380,11 @@ class RayEvaluator(Evaluator):
         ]
         return _concat(self._ray.get(refs), gains)
 
+    def _map(
+        self, fn: Callable[[Sequence[Item]], Result], chunks: list[Sequence[Item]]
+    ) -> list[Result]:
+        return list(self._ray.get([self._call.remote(fn, list(chunk)) for chunk in chunks]))
+
     def close(self) -> None:
         """``ray.shutdown()`` if this evaluator called ``ray.init``; idempotent."""
         if self._owns_ray:
@@ -377,6 +409,10 @@ def _ray_evaluate(
     problem: NavigationProblem, genomes: Sequence[Genome], gains: GainScope
 ) -> Evaluation:
     return problem.evaluate(genomes, gains)
+
+
+def _ray_call(fn: Callable[[Sequence[Item]], Result], items: Sequence[Item]) -> Result:
+    return fn(items)
 
 
 def make_evaluator(

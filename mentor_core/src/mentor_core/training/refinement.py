@@ -26,8 +26,9 @@ trade them. Chosen for the Swarm-Robot on the validation split (``benchmarks/RES
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Annotated
 
 import numpy as np
@@ -42,6 +43,13 @@ from mentor_core.validation import Float, Int, Str, config_dataclass, fault
 
 #: called after each iteration with (iteration, iterations, goals reached, path credit)
 Progress = Callable[[int, int, int, float], None]
+
+#: goals reached and path credit C per genome of a list
+Scores = tuple[np.ndarray, np.ndarray]
+
+#: runs a scoring function on contiguous chunks of the copies, the results in order
+#: (:meth:`~mentor_core.training.evaluators.Evaluator.map_chunks`: a run's workers)
+ChunkMap = Callable[[Callable[[Sequence[Genome]], Scores], Sequence[Genome]], list[Scores]]
 
 
 @config_dataclass
@@ -105,16 +113,23 @@ def refine(
     rng: np.random.Generator,
     progress: Progress | None = None,
     evolution_mutation: MutationConfig | None = None,
+    chunk_map: ChunkMap | None = None,
 ) -> Refinement:
     """Refine ``genome``'s weights on ``problem``'s scenarios (module docstring); the same
     ``rng`` state gives the same genome. Weights are clipped to ``evolution_mutation``'s
-    ``weight_max``, the run's (default: NEAT's defaults)."""
-    shortest = shortest_lengths(problem.scenarios, problem.profile)
+    ``weight_max``, the run's (default: NEAT's defaults). ``chunk_map`` spreads each
+    iteration's copies over workers (default: in process); the genome is the same."""
+    score_chunk = partial(_score, problem, shortest_lengths(problem.scenarios, problem.profile))
+
+    def scores(genomes: list[Genome]) -> Scores:
+        parts = [score_chunk(genomes)] if chunk_map is None else chunk_map(score_chunk, genomes)
+        return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
     mutation = dataclasses.replace(
         evolution_mutation or MutationConfig(), weight_rate=config.weight_rate,
         weight_perturb_sigma=config.weight_sigma, weight_replace_rate=0.0,
     )  # fmt: skip
-    reached, credit = _score(problem, [genome], shortest)
+    reached, credit = score_chunk([genome])
     best, goals, score = genome, int(reached[0]), float(credit[0])
     first = (goals, score)
     accepted = 0
@@ -124,7 +139,7 @@ def refine(
                                                                        mutation, rng)))
             for _ in range(config.offspring)
         ]  # fmt: skip
-        reached, credit = _score(problem, copies, shortest)
+        reached, credit = scores(copies)
         j = chosen(reached, credit, goals, score)
         if j is not None:
             best, goals, score = copies[j], int(reached[j]), float(credit[j])
@@ -147,9 +162,10 @@ def chosen(
 
 
 def _score(
-    problem: NavigationProblem, genomes: list[Genome], shortest: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Goals reached and path credit C (module docstring) per genome."""
+    problem: NavigationProblem, shortest: np.ndarray, genomes: Sequence[Genome]
+) -> Scores:
+    """Goals reached and path credit C (module docstring) per genome; module level, so that
+    it pickles for a run's workers."""
     batch = problem.simulate(genomes)
     n = len(problem.scenarios)
     driven = batch.path_length(problem.profile)
@@ -158,4 +174,4 @@ def _score(
     return batch.reached.reshape(len(genomes), n).sum(axis=1), terms.sum(axis=1)
 
 
-__all__ = ["Progress", "Refinement", "RefinementConfig", "chosen", "refine"]
+__all__ = ["ChunkMap", "Progress", "Refinement", "RefinementConfig", "chosen", "refine"]

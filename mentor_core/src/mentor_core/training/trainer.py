@@ -157,6 +157,7 @@ class _Run:
         # behaviours of past generations' most novel genomes (novelty search only)
         self.archive = np.zeros((0, 2 * len(problem.scenarios)), dtype=np.float64)
         self.refine_progress: Progress | None = None
+        self.refinement: NavigationProblem | None = None  # its scenarios, when it refines
 
     def ranked_objectives(self, evaluation: Evaluation, mode: Mode) -> np.ndarray:
         """What the evolution is told: (F, G), and with novelty search each genome's novelty
@@ -268,6 +269,7 @@ def _train(
     paths = run_dir.paths
     run = _Run(config, seed, problem)
     run.refine_progress = refine_progress
+    run.refinement = refinement_problem(config)  # before anything is written: it can fail
     config_text = yaml.safe_dump({"seed": seed, **config.to_dict()})
     if paths.checkpoint.exists():  # open_run lets only a resume come this far
         run.load_state(load_json(paths.checkpoint), paths.checkpoint)
@@ -322,7 +324,8 @@ def _train(
             # runs the generation again on resume and writes the same files again
             write_text_atomic(paths.history, history_csv(run.history))
             if run.generation == total:
-                _write_final_files(run, paths, genomes, evaluation, list(stats.labels))
+                _write_final_files(run, paths, genomes, evaluation, list(stats.labels),
+                                   evaluator)
             # compact: several MB a generation, for the trainer to read, not for people
             write_json_atomic(paths.checkpoint, run.to_state(), indent=None)
             for callback in callbacks:
@@ -352,15 +355,16 @@ def _write_final_files(
     genomes: Sequence[Genome],
     evaluation: Evaluation,
     labels: Sequence[int],
+    evaluator: Evaluator,
 ) -> None:
     """The final population (``genomes`` as evaluated), the single-stage Pareto set and the
-    best genome with its metadata."""
+    best genome with its metadata (refined on ``evaluator``'s workers, if the config asks)."""
     config, profile = run.config, run.problem.profile
     write_json_atomic(paths.population, population_json(genomes, evaluation, labels))
     if config.framework == "single":
         write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, 0))
     best_genome, best_obj = run.evolution.best()
-    refined = _refined(run, best_genome)
+    refined = _refined(run, best_genome, evaluator)
     save_genome(
         best_genome if refined is None else refined.genome,
         paths.best_genome,
@@ -406,23 +410,41 @@ def _write_final_files(
 _REFINEMENT_STREAM = 1
 
 
-def _refined(run: _Run, genome: Genome) -> Refinement | None:
-    """``genome`` refined as the run's config asks (None when it does not): on the
-    refinement scenarios of the config (:mod:`~mentor_core.training.refinement`: the training
-    draw from its own seed, count, worlds and budget, the training's and its own families'
-    worlds at its family_pairs), with the run's seed."""
-    cfg = run.config.refinement
+def refinement_problem(
+    config: TrainerConfig, source: str = "trainer config"
+) -> NavigationProblem | None:
+    """The refinement scenarios of a config (None when it refines nothing): the training
+    draw from the refinement's own seed, count, worlds and budget, with the training's and
+    its own families' worlds at its family_pairs (:mod:`~mentor_core.training.refinement`).
+
+    ConfigError naming ``refinement.<key>`` when they cannot be drawn (a family's world with
+    too few solvable pairs); :func:`train` builds them before the first generation, so that
+    such a config fails at once rather than after the evolution."""
+    cfg = config.refinement
     if cfg.iterations == 0:
         return None
     scenarios = dataclasses.replace(
-        run.config, scenario_seed=cfg.scenario_seed, n_scenarios=cfg.scenarios,
+        config, scenario_seed=cfg.scenario_seed, n_scenarios=cfg.scenarios,
         training_worlds=cfg.worlds, time_budget=cfg.time_budget,
-        families=tuple(dict.fromkeys(run.config.families + cfg.families)),
-        family_pairs=cfg.family_pairs if cfg.families else run.config.family_pairs,
+        families=tuple(dict.fromkeys(config.families + cfg.families)),
+        family_pairs=cfg.family_pairs if cfg.families else config.family_pairs,
     )  # fmt: skip
+    try:
+        return make_problem(scenarios, source=source)
+    except ConfigError as err:
+        key = "refinement" if err.key is None else f"refinement.{err.key}"
+        raise ConfigError(err.message, key=key, path=err.path) from None
+
+
+def _refined(run: _Run, genome: Genome, evaluator: Evaluator) -> Refinement | None:
+    """``genome`` refined as the run's config asks (None when it does not), on the run's
+    refinement scenarios with the run's seed, each iteration's copies spread over
+    ``evaluator``'s workers."""
+    if run.refinement is None:
+        return None
     rng = np.random.default_rng((run.seed, _REFINEMENT_STREAM))
-    return refine(genome, make_problem(scenarios), cfg, rng, run.refine_progress,
-                  run.config.evolution.mutation)
+    return refine(genome, run.refinement, run.config.refinement, rng, run.refine_progress,
+                  run.config.evolution.mutation, evaluator.map_chunks)
 
 
 def _complete(run: _Run, paths: RunPaths, evaluator: Evaluator) -> tuple[Path, ...]:
@@ -447,7 +469,7 @@ def _complete(run: _Run, paths: RunPaths, evaluator: Evaluator) -> tuple[Path, .
                 "its final population evaluates otherwise now; cannot write "
                 f"{', '.join(p.name for p in missing)} again",
             )
-        _write_final_files(run, paths, genomes, evaluation, labels.tolist())
+        _write_final_files(run, paths, genomes, evaluation, labels.tolist(), evaluator)
         rebuilt += missing
     return tuple(rebuilt)
 
@@ -475,4 +497,4 @@ def _write_text_if_changed(path: Path, text: str) -> bool:
     return True
 
 
-__all__ = ["Callback", "TrainResult", "make_problem", "train"]
+__all__ = ["Callback", "TrainResult", "make_problem", "refinement_problem", "train"]
