@@ -235,7 +235,9 @@ def train(
     sizes the niches and breeds; at the end of dual stage 1, reseed from its best by F;
     record the history row; write the history, after the last generation the final files, and
     the checkpoint, each atomically; call the callbacks. The best genome is refined before it
-    is written when the config asks (``refine_progress`` is called after each iteration).
+    is written when the config asks (``refine_progress`` is called after each iteration; the
+    refinement's scenarios are drawn before the first generation, and its copies spread over
+    ``evaluator``'s workers).
 
     ``out_dir`` is opened with :func:`~mentor_core.training.run_directory.open_run` (locked
     for the whole run; ``resume`` continues the run in it), unless it is a directory opened
