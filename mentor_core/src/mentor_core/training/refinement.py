@@ -19,8 +19,9 @@ fall, on these scenarios.
 Why: evolution ranks F (paper eq. 3), whose time credit hardly sees a detour, and every
 attempt to press on the path within F cost goals (``benchmarks/RESULTS.md``, "Crediting the
 path" and after). Refining the finished planner with goals held as a constraint does not
-trade them. Chosen for the Swarm-Robot on the validation split (``benchmarks/RESULTS.md``,
-"Refining the weights after evolution").
+trade them. Chosen for both robots on the validation split (``benchmarks/RESULTS.md``,
+"Refining the weights after evolution"; the UGV's on a sparse forest, "Seven more
+refinements, and a memory of the last action").
 """
 
 from __future__ import annotations
