@@ -1,9 +1,10 @@
 """Refinement of a trained planner's weights (not in the paper): a (1 + lambda) search.
 
 After evolution, the run's best genome is refined on training scenarios it was not evolved
-on: more of them, in more worlds, drawn by the training generator from another seed (never
-the benchmark's validation or test pairs) and given the benchmark's 50 s; ``families`` adds
-a world of each structured family named, drawn from the training seeds as a curriculum's.
+on: ``scenarios`` of them in ``worlds`` worlds, drawn by the training generator from another
+seed (never the benchmark's validation or test pairs) and given the benchmark's 50 s;
+``families`` adds a world of each structured family named, drawn from the training seeds as
+a curriculum's.
 Each iteration draws ``offspring`` copies of the current genome with NEAT's weight
 perturbation (each connection weight, with probability ``weight_rate``, plus
 N(0, ``weight_sigma``); the topology stays) and moves to the copy of the highest path credit
