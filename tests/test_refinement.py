@@ -13,8 +13,9 @@ import mentor_core.training.trainer as trainer_module
 from mentor_core.errors import ConfigError
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.objectives.performance import path_credit
+from mentor_core.sim.robots import get_profile
 from mentor_core.training.config import TrainerConfig, shipped_config
-from mentor_core.training.evaluators import PoolEvaluator
+from mentor_core.training.evaluators import InProcessEvaluator, PoolEvaluator
 from mentor_core.training.problem import shortest_lengths
 from mentor_core.training.refinement import RefinementConfig, chosen, refine
 from mentor_core.training.trainer import make_problem, train
@@ -135,6 +136,33 @@ def test_refinement_worlds_that_cannot_be_drawn_fail_before_the_first_generation
     with pytest.raises(ConfigError, match=r"refinement\.families: .*too few solvable"):
         train(config, tmp_path / "run", seed=1)
     assert not (tmp_path / "run").exists()  # nothing trained, nothing written
+
+
+def test_mentor_train_names_the_config_file_whose_refinement_cannot_be_drawn(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from mentor_core.cli.train import main
+
+    config = tmp_path / "mine.yaml"
+    config.write_text("extends: swarm/quick\n"
+                      "refinement: {iterations: 2, families: [corridors], family_pairs: 30}\n")
+    args = ["--robot", "swarm", "--framework", "dual", "--config", str(config),
+            "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(args) == 2
+    assert f"{config}: refinement.families: " in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_run_refuses_to_refine_for_a_robot_other_than_its_evaluators(
+    tmp_path: Path,
+) -> None:
+    config = tiny(refinement=SMALL)
+    wider = dataclasses.replace(get_profile("swarm"), sensor_range=1.0)
+    with InProcessEvaluator(make_problem(config, profile=wider)) as evaluator:
+        with pytest.raises(ValueError, match="another robot profile"):
+            train(config, tmp_path / "run", seed=1, evaluator=evaluator)
+        assert not (tmp_path / "run").exists()
+        train(tiny(), tmp_path / "plain", seed=1, evaluator=evaluator)  # no refinement: trains
 
 
 def test_mentor_train_prints_the_refinement_and_records_it(

@@ -123,7 +123,8 @@ def _run(args: argparse.Namespace) -> int:
         config, saved_seed = resolve_run(args.robot, args.framework, args.config, args.overrides)
         if args.seed is None:
             args.seed = 0 if saved_seed is None else saved_seed
-        problem = make_problem(config, source=args.config or "paper")
+        source = args.config or "paper"
+        problem = make_problem(config, source=source)
         # the run directory first: a second writer is refused before any worker starts
         with open_run(args.out, resume=args.resume) as run_dir:
             print(
@@ -148,6 +149,7 @@ def _run(args: argparse.Namespace) -> int:
                     resume=args.resume,
                     callbacks=[] if args.quiet else [stack.enter_context(progress)],
                     refine_progress=None if args.quiet else RefinementLines(),
+                    source=source,
                 )
     except KeyboardInterrupt as stop:
         how = "terminated (SIGTERM)" if isinstance(stop, Terminated) else "interrupted"

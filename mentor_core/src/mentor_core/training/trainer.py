@@ -227,6 +227,7 @@ def train(
     callbacks: Sequence[Callback] = (),
     stop_after: int | None = None,
     refine_progress: Progress | None = None,
+    source: str = "trainer config",
 ) -> TrainResult:
     """Train a planner; returns when all generations ran (or ``stop_after`` generations).
 
@@ -245,16 +246,27 @@ def train(
     before the final checkpoint, so a run interrupted anywhere completes on ``resume``; a
     finished run is left as it is, and one whose final files are missing (written by an
     older version, or deleted) gets them again from its final checkpoint.
+
+    ``source`` names the config (its file) in the ConfigErrors of its problem and its
+    refinement. The refinement draws its scenarios for the config's robot as shipped:
+    ValueError, before anything is written, for an ``evaluator`` whose problem has another
+    robot profile (refine such a genome with :func:`~mentor_core.training.refinement.refine`).
     """
-    problem = evaluator.problem if evaluator is not None else make_problem(config)
+    problem = evaluator.problem if evaluator is not None else make_problem(config, source=source)
+    refinement = refinement_problem(config, source)  # before anything is written: it can fail
+    if refinement is not None and refinement.profile != problem.profile:
+        raise ValueError(
+            f"the refinement draws its scenarios for the {config.robot} as shipped, but the "
+            "evaluator's problem has another robot profile; set refinement.iterations to 0"
+        )
     if isinstance(out_dir, RunDirectory):
         if out_dir.resume != resume:
             raise ValueError(f"resume={resume} but the run directory was opened otherwise")
         return _train(config, out_dir, seed, problem, evaluator, callbacks, stop_after,
-                      refine_progress)
+                      refine_progress, refinement)
     with open_run(out_dir, resume=resume) as run_dir:
         return _train(config, run_dir, seed, problem, evaluator, callbacks, stop_after,
-                      refine_progress)
+                      refine_progress, refinement)
 
 
 def _train(
@@ -265,13 +277,14 @@ def _train(
     evaluator: Evaluator | None,
     callbacks: Sequence[Callback],
     stop_after: int | None,
-    refine_progress: Progress | None = None,
+    refine_progress: Progress | None,
+    refinement: NavigationProblem | None,
 ) -> TrainResult:
-    """:func:`train` in an opened run directory."""
+    """:func:`train` in an opened run directory, with the refinement's scenarios."""
     paths = run_dir.paths
     run = _Run(config, seed, problem)
     run.refine_progress = refine_progress
-    run.refinement = refinement_problem(config)  # before anything is written: it can fail
+    run.refinement = refinement
     config_text = yaml.safe_dump({"seed": seed, **config.to_dict()})
     if paths.checkpoint.exists():  # open_run lets only a resume come this far
         run.load_state(load_json(paths.checkpoint), paths.checkpoint)
