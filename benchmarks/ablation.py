@@ -112,7 +112,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         result = train(
             config, args.out or Path(tmp) / "run", seed=args.seed,
-            evaluator=InProcessEvaluator(problem),
+            evaluator=InProcessEvaluator(problem), profile=profile,
         )  # fmt: skip
     best = result.best_genome
     _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / (args.unseen or args.robot))

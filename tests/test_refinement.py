@@ -153,16 +153,27 @@ def test_mentor_train_names_the_config_file_whose_refinement_cannot_be_drawn(
     assert not (tmp_path / "run").exists()
 
 
-def test_a_run_refuses_to_refine_for_a_robot_other_than_its_evaluators(
-    tmp_path: Path,
+def test_a_run_refines_for_the_robot_profile_of_its_problem(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    config = tiny(refinement=SMALL)
+    config = tiny(refinement={**SMALL, "iterations": 1})
     wider = dataclasses.replace(get_profile("swarm"), sensor_range=1.0)
     with InProcessEvaluator(make_problem(config, profile=wider)) as evaluator:
-        with pytest.raises(ValueError, match="another robot profile"):
+        # not told the profile: refused before anything is written, not refined for another
+        with pytest.raises(ValueError, match="not the evaluator's problem's"):
             train(config, tmp_path / "run", seed=1, evaluator=evaluator)
         assert not (tmp_path / "run").exists()
-        train(tiny(), tmp_path / "plain", seed=1, evaluator=evaluator)  # no refinement: trains
+        ranges: list[float] = []
+
+        def recording(  # type: ignore[no-untyped-def]
+            genome, problem, cfg, rng, progress=None, mutation=None, chunk_map=None
+        ):
+            ranges.append(problem.profile.sensor_range)
+            return refine(genome, problem, cfg, rng, progress, mutation, chunk_map)
+
+        monkeypatch.setattr(trainer_module, "refine", recording)
+        train(config, tmp_path / "run", seed=1, evaluator=evaluator, profile=wider)
+    assert ranges == [1.0]
 
 
 def test_mentor_train_prints_the_refinement_and_records_it(

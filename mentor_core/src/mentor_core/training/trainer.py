@@ -228,6 +228,7 @@ def train(
     stop_after: int | None = None,
     refine_progress: Progress | None = None,
     source: str = "trainer config",
+    profile: RobotProfile | None = None,
 ) -> TrainResult:
     """Train a planner; returns when all generations ran (or ``stop_after`` generations).
 
@@ -248,16 +249,21 @@ def train(
     older version, or deleted) gets them again from its final checkpoint.
 
     ``source`` names the config (its file) in the ConfigErrors of its problem and its
-    refinement. The refinement draws its scenarios for the config's robot as shipped:
-    ValueError, before anything is written, for an ``evaluator`` whose problem has another
-    robot profile (refine such a genome with :func:`~mentor_core.training.refinement.refine`).
+    refinement. ``profile`` is the robot's profile the problem and the refinement are drawn
+    for, as :func:`make_problem` takes it (default the shipped one); ValueError, before
+    anything is written, when the refinement's planner profile is not that of the
+    ``evaluator``'s problem (one made with another ``profile``).
     """
-    problem = evaluator.problem if evaluator is not None else make_problem(config, source=source)
-    refinement = refinement_problem(config, source)  # before anything is written: it can fail
+    if evaluator is not None:
+        problem = evaluator.problem
+    else:
+        problem = make_problem(config, profile, source=source)
+    # before anything is written: it can fail
+    refinement = refinement_problem(config, source, profile)
     if refinement is not None and refinement.profile != problem.profile:
         raise ValueError(
-            f"the refinement draws its scenarios for the {config.robot} as shipped, but the "
-            "evaluator's problem has another robot profile; set refinement.iterations to 0"
+            "the refinement's robot profile is not the evaluator's problem's: give train "
+            "the profile its problem was made with (profile=), or set refinement.iterations 0"
         )
     if isinstance(out_dir, RunDirectory):
         if out_dir.resume != resume:
@@ -426,11 +432,12 @@ _REFINEMENT_STREAM = 1
 
 
 def refinement_problem(
-    config: TrainerConfig, source: str = "trainer config"
+    config: TrainerConfig, source: str = "trainer config", profile: RobotProfile | None = None
 ) -> NavigationProblem | None:
     """The refinement scenarios of a config (None when it refines nothing): the training
     draw from the refinement's own seed, count, worlds and budget, with the training's and
-    its own families' worlds at its family_pairs (:mod:`~mentor_core.training.refinement`).
+    its own families' worlds at its family_pairs (:mod:`~mentor_core.training.refinement`),
+    for ``profile`` as :func:`make_problem` takes it (default the shipped one).
 
     ConfigError naming ``refinement.<key>`` when they cannot be drawn (a family's world with
     too few solvable pairs); :func:`train` builds them before the first generation, so that
@@ -445,7 +452,7 @@ def refinement_problem(
         family_pairs=cfg.family_pairs if cfg.families else config.family_pairs,
     )  # fmt: skip
     try:
-        return make_problem(scenarios, source=source)
+        return make_problem(scenarios, profile, source=source)
     except ConfigError as err:
         key = "refinement" if err.key is None else f"refinement.{err.key}"
         raise ConfigError(err.message, key=key, path=err.path) from None
