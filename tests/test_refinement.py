@@ -16,7 +16,7 @@ from mentor_core.objectives.performance import path_credit
 from mentor_core.sim.robots import get_profile
 from mentor_core.training.config import TrainerConfig, shipped_config
 from mentor_core.training.evaluators import InProcessEvaluator, PoolEvaluator
-from mentor_core.training.problem import shortest_lengths
+from mentor_core.training.problem import NavigationProblem, shortest_lengths
 from mentor_core.training.refinement import RefinementConfig, chosen, refine
 from mentor_core.training.trainer import make_problem, train
 
@@ -35,6 +35,20 @@ def problem_and_genome():  # type: ignore[no-untyped-def]
                                  training_worlds=2, time_budget=50.0, scenario_seed=3)  # fmt: skip
     genome, _ = load_genome_and_metadata(PLANNERS / "swarm-paper-dual-s1.json")
     return make_problem(config), genome
+
+
+def refined_problems(monkeypatch: pytest.MonkeyPatch) -> list[NavigationProblem]:
+    """The problems the trainer's refinements run on from now on, in order."""
+    seen: list[NavigationProblem] = []
+
+    def recording(  # type: ignore[no-untyped-def]
+        genome, problem, cfg, rng, progress=None, mutation=None, chunk_map=None
+    ):
+        seen.append(problem)
+        return refine(genome, problem, cfg, rng, progress, mutation, chunk_map)
+
+    monkeypatch.setattr(trainer_module, "refine", recording)
+    return seen
 
 
 def credit_of(problem, genome) -> tuple[int, float]:  # type: ignore[no-untyped-def]
@@ -163,17 +177,9 @@ def test_a_run_refines_for_the_robot_profile_of_its_problem(
         with pytest.raises(ValueError, match="not the evaluator's problem's"):
             train(config, tmp_path / "run", seed=1, evaluator=evaluator)
         assert not (tmp_path / "run").exists()
-        ranges: list[float] = []
-
-        def recording(  # type: ignore[no-untyped-def]
-            genome, problem, cfg, rng, progress=None, mutation=None, chunk_map=None
-        ):
-            ranges.append(problem.profile.sensor_range)
-            return refine(genome, problem, cfg, rng, progress, mutation, chunk_map)
-
-        monkeypatch.setattr(trainer_module, "refine", recording)
+        refined = refined_problems(monkeypatch)
         train(config, tmp_path / "run", seed=1, evaluator=evaluator, profile=wider)
-    assert ranges == [1.0]
+    assert [p.profile.sensor_range for p in refined] == [1.0]
 
 
 def test_mentor_train_prints_the_refinement_and_records_it(
@@ -197,19 +203,12 @@ def test_mentor_train_prints_the_refinement_and_records_it(
 def test_refinement_worlds_of_the_named_families_are_added(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    seen: list[int] = []
-
-    def counting(  # type: ignore[no-untyped-def]
-        genome, problem, cfg, rng, progress=None, mutation=None, chunk_map=None
-    ):
-        seen.append(len(problem.scenarios))
-        return refine(genome, problem, cfg, rng, progress, mutation, chunk_map)
-
-    monkeypatch.setattr(trainer_module, "refine", counting)
+    refined = refined_problems(monkeypatch)
     config = tiny(refinement={**SMALL, "iterations": 1, "families": ["rooms", "slalom"],
                               "family_pairs": 2})  # fmt: skip
     train(config, tmp_path, seed=1)
-    assert seen == [SMALL["scenarios"] + 2 * 2]  # a world of each family, 2 pairs each
+    # a world of each family, 2 pairs each
+    assert [len(p.scenarios) for p in refined] == [SMALL["scenarios"] + 2 * 2]
     _, meta = load_genome_and_metadata(tmp_path / "best_genome.json")
     assert (meta["refinement"]["families"], meta["refinement"]["family_pairs"]) == (
         ["rooms", "slalom"], 2)  # fmt: skip
