@@ -62,6 +62,9 @@ def test_bench_writes_the_table_json_and_markdown(
         assert f"| {family} | {100 * mine:.1f} % / " in md
         assert f"| {100 * best:.1f} % (" in md
     assert "`ref` leads or ties the best baseline on success in" in md
+    # where its SPL goes: its paths and the best baseline's on the pairs both reached
+    assert "Where SPL goes" in md
+    assert "| family | pairs both reached | `ref` | baseline of the highest SPL |" in md
     for png in ("bench_success.png", "bench_success_scaled.png", "bench_trajectories.png"):
         assert (bench_dir / png).stat().st_size > 1000
         assert f"({png})" in md

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 import pytest
+from bench_doc_support import bench_doc
 
 from mentor_core.report.head_to_head import baseline_choice, head_to_head, head_to_head_markdown
 
@@ -103,35 +103,13 @@ def test_a_family_without_scores_shows_a_dash() -> None:
         head_to_head_markdown(doc))
 
 
-def _with_pairs(outcomes: dict[str, list[tuple[bool, float]]], n: int = 20) -> dict[str, Any]:
-    """A document whose contenders' scores add up from per-pair results: per contender a
-    (reached, path length m) per pair; pairs of 2 m, half rooms then half forest."""
-    families = ["rooms", "forest"]
-    pairs = [{"family": families[i * 2 // n], "shortest": 2.0, "time_limit": 12.0}
-             for i in range(n)]  # fmt: skip
-    contenders = []
-    for name, runs in outcomes.items():
-        results = [{"reached": r, "steps": 10, "path_length": p} for r, p in runs]
-        per = {}
-        for fam in [*families, "overall"]:
-            idx = [i for i, q in enumerate(pairs) if fam in ("overall", q["family"])]
-            per[fam] = {"success": float(np.mean([runs[i][0] for i in idx])),
-                        "spl": float(np.mean([2.0 / max(runs[i][1], 2.0) if runs[i][0] else 0.0
-                                              for i in idx]))}  # fmt: skip
-        kind = "baseline" if name.startswith("bug") else "evolved"
-        contenders.append({"name": name, "kind": kind, "settings": {"control_period": 0.5},
-                           "scores": {"paper": per, "scaled": per}, "results": results})
-    return {"families": families, "pairs": pairs, "paper_limit": 50.0,
-            "contenders": contenders}
-
-
 def test_margins_carry_a_paired_bootstrap_interval() -> None:
     n = 20
     # rooms: the planner reaches every pair, the baseline none; forest: both reach all,
     # the planner along paths 1.25 times the shortest, the baseline along the shortest
     mine = [(True, 2.0)] * (n // 2) + [(True, 2.5)] * (n // 2)
     bug = [(False, 9.0)] * (n // 2) + [(True, 2.0)] * (n // 2)
-    doc = _with_pairs({"dual-s1": mine, "dual-s2": mine, "bug": bug}, n)
+    doc = bench_doc({"dual-s1": mine, "dual-s2": mine, "bug": bug}, n)
     rooms, forest, overall = head_to_head(doc)["dual"]
     assert rooms.success_interval == (1.0, 1.0) and rooms.success_verdict == "leads"
     assert forest.success_interval == (0.0, 0.0) and forest.success_verdict == "level"

@@ -10,7 +10,8 @@
 * :func:`bench_markdown` -- both figures and the tables (success and SPL per family under
   each time limit, per planner and, where a name has several seeds (``report.seed_groups``),
   its mean +- sd beside the baselines; each evolved planner head to head with the best
-  baseline per family (``report.head_to_head``); every score overall) as Markdown lines.
+  baseline per family (``report.head_to_head``); its paths against that baseline's on the
+  pairs both reached (``report.path_efficiency``); every score overall) as Markdown lines.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from matplotlib.patches import Circle, Rectangle
 from mentor_core.atomic import write_bytes_atomic
 from mentor_core.report.figures import _figure, _png
 from mentor_core.report.head_to_head import head_to_head_markdown
+from mentor_core.report.path_efficiency import DETOUR, efficiency_markdown
 from mentor_core.report.seed_groups import seed_groups
 from mentor_core.report.tables import _fmt, _md_table, _pct
 
@@ -205,6 +207,15 @@ def bench_markdown(doc: Mapping[str, Any], out_dir: str | Path, prefix: str = "b
                f"{chosen.get('split', '?')} split (`{chosen.get('source', '?')}`) in each "
                "family and column, scored here (no winner's bias from picking the best on "
                "these pairs):", "", *head_to_head_markdown(doc, "paper", chosen["choice"])]
+    efficiency = efficiency_markdown(doc, "paper")
+    if efficiency:
+        md += [f"Where SPL goes, within {LIMIT_TITLES['paper']}: SPL is success times the path "
+               "efficiency, the mean of shortest / taken over the pairs reached. So that a "
+               "planner that fails the hard pairs is not scored on the easy ones, each evolved "
+               "planner and the baseline of the highest SPL in each family are compared on the "
+               "pairs both reached (each seed's, the seeds pooled). Each cell: the efficiency · "
+               "the median of taken / shortest · the share of paths longer than "
+               f"{DETOUR:g} times the shortest:", "", *efficiency]
     md += [f"![success per family]({prefix}_success.png)", "",
            f"![success per family, scaled limit]({prefix}_success_scaled.png)", ""]
     rows = []

@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from mentor_core.benchmark.scores import decisions_allowed, spl
 from mentor_core.report.bootstrap import paired_interval
-from mentor_core.report.seed_groups import seed_groups
+from mentor_core.report.seed_groups import evolved_planners, seed_groups
 
 #: margins closer to 0 than this are ties: a mean of seeds' rates k/n carries rounding error
 TIE = 1e-9
@@ -205,10 +205,7 @@ def head_to_head(
                              "this run lacks")  # fmt: skip
         return _score(by_name[name], limit, family, key), name
 
-    groups = seed_groups(contenders)
-    grouped = {i for idx in groups.values() for i in idx}
-    planners = dict(groups) | {str(c["name"]): [i] for i, c in enumerate(contenders)
-                               if c["kind"] == "evolved" and i not in grouped}
+    planners = evolved_planners(contenders)
     pairs = {str(c["name"]): per_pair(doc, c, limit) for c in contenders}
     families = _families(doc) if "pairs" in doc else None  # None: no per-pair data at all
     out: dict[str, list[FamilyMatch]] = {}

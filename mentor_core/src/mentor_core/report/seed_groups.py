@@ -20,3 +20,12 @@ def seed_groups(contenders: Sequence[Mapping[str, Any]]) -> dict[str, list[int]]
         if c["kind"] == "evolved" and match:
             groups.setdefault(match["name"], []).append(i)
     return {name: idx for name, idx in groups.items() if len(idx) > 1}
+
+
+def evolved_planners(contenders: Sequence[Mapping[str, Any]]) -> dict[str, list[int]]:
+    """Indices of each evolved planner: its :func:`seed_groups` group under ``<name>``, then
+    every other evolved contender alone under its own name."""
+    groups = seed_groups(contenders)
+    grouped = {i for idx in groups.values() for i in idx}
+    return groups | {str(c["name"]): [i] for i, c in enumerate(contenders)
+                     if c["kind"] == "evolved" and i not in grouped}  # fmt: skip
