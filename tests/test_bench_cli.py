@@ -252,6 +252,8 @@ def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(
     printed = capsys.readouterr().out
     assert "head to head with the best baseline, ugv, validation split, limit 50 s" in printed
     assert "`ref-s1` leads or ties" in printed and "`mapped-ref-s1` leads or ties" in printed
+    assert "paths on the pairs both reached with the baseline of the highest SPL" in printed
+    assert "| family | pairs both reached | `mapped-ref-s1` |" in printed
     plain, mapped = doc["contenders"][0], doc["contenders"][2]
     # the same planner, steered elsewhere: its trajectories differ
     assert any(a["trajectory"] != b["trajectory"]

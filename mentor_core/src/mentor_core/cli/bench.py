@@ -11,7 +11,8 @@ Runs each genome (with the planner settings of its metadata, as mentor-eval), th
 (``vfh``, ``bug``) and the oracle on the seeded world families of a split (validation by
 default; the test split is for reporting only), prints success / SPL per family under the
 paper's 50 s and under a limit scaled to each pair's shortest path, then each evolved planner
-head to head with the best baseline per family (``report.head_to_head``), and with ``--out`` writes
+head to head with the best baseline per family (``report.head_to_head``) and its paths against
+that baseline's on the pairs both reached (``report.path_efficiency``), and with ``--out`` writes
 ``bench.json`` (format ``mentor-bench``), ``bench.md`` and its figures there; ``mentor-report
 --bench bench.json`` includes them in a report.
 """
@@ -62,6 +63,7 @@ from mentor_core.cli.arguments import (
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.report.head_to_head import baseline_choice, head_to_head_markdown
+from mentor_core.report.path_efficiency import efficiency_markdown
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.robots import RobotProfile, get_profile
 
@@ -316,6 +318,12 @@ def main(argv: list[str] | None = None) -> int:
             print(f"head to head with the baseline best on the {chosen['split']} split "
                   f"({chosen['source']}), limit 50 s")
             print("\n".join(head_to_head_markdown(doc, "paper", chosen["choice"])))
+        paths = efficiency_markdown(doc, "paper")
+        if paths:
+            print(f"paths on the pairs both reached with the baseline of the highest SPL "
+                  f"(efficiency · median taken / shortest · detours), {args.robot}, "
+                  f"{args.split} split, limit 50 s")
+            print("\n".join(paths))
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)
             md = bench_markdown(doc, args.out, heading="#")
