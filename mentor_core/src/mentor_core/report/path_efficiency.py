@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from mentor_core.report.head_to_head import head_to_head, per_pair
+from mentor_core.report.head_to_head import _families, head_to_head, per_pair
 from mentor_core.report.seed_groups import evolved_planners
 from mentor_core.report.tables import _md_table
 
@@ -92,7 +92,7 @@ def paired_efficiency(
     contenders = doc["contenders"]
     by_name = {str(c["name"]): c for c in contenders}
     planners = evolved_planners(contenders)
-    families = np.array([p["family"] for p in doc["pairs"]])
+    families = _families(doc)
     out: dict[str, list[PairedEfficiency]] = {}
     for name, matches in head_to_head(doc, limit).items():
         found = [per_pair(doc, contenders[i], limit) for i in planners[name]]
