@@ -93,6 +93,7 @@ def paired_efficiency(
     by_name = {str(c["name"]): c for c in contenders}
     planners = evolved_planners(contenders)
     families = _families(doc)
+    baselines: dict[str, Any] = {}  # a baseline's per-pair results, once for all planners
     out: dict[str, list[PairedEfficiency]] = {}
     for name, matches in head_to_head(doc, limit).items():
         found = [per_pair(doc, contenders[i], limit) for i in planners[name]]
@@ -101,8 +102,9 @@ def paired_efficiency(
             continue
         rows = []
         for m in matches:
-            theirs = per_pair(doc, by_name[m.best_spl_by], limit) if (
-                m.best_spl_by in by_name) else None  # fmt: skip
+            if m.best_spl_by in by_name and m.best_spl_by not in baselines:
+                baselines[m.best_spl_by] = per_pair(doc, by_name[m.best_spl_by], limit)
+            theirs = baselines.get(m.best_spl_by)
             if theirs is None:
                 continue
             where = np.ones(families.size, bool) if m.family == "overall" else (
