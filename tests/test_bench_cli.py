@@ -328,13 +328,16 @@ def test_collision_guard_adds_each_planner_but_the_oracle_behind_the_guard(
 def test_deployed_runs_each_genome_only_as_deployed_and_as_the_three_flags_do(
     tmp_path: Path,
 ) -> None:
-    """--deployed: the genome on its scan map behind the shim (45 deg) and the guard, and
-    the baselines in the variants the three flags add; each the same run as with the flags."""
+    """--deployed: the UGV genome deciding twice per trained period on its scan map behind
+    the shim (45 deg) and the guard, and the baselines in the variants the three flags add;
+    each the same run as with the flags."""
     common = [str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families", "rooms",
               "--pairs-per-family", "2", "--baselines", "vfh", "--baseline-limits",
               "reference", "--no-oracle"]  # fmt: skip
     assert bench_main([*common, "--deployed", "--out", str(tmp_path / "d")]) == 0
-    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
+    # the reference genome was trained to decide every 1 s (the robot's period)
+    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard", "--control-period",
+             "0.5"]  # fmt: skip
     assert bench_main([*common, *flags, "--out", str(tmp_path / "all")]) == 0
     deployed = load_bench(tmp_path / "d" / "bench.json")["contenders"]
     every = {c["name"]: c for c in load_bench(tmp_path / "all" / "bench.json")["contenders"]}

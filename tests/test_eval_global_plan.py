@@ -134,7 +134,9 @@ def test_deployed_is_the_scan_map_run_behind_the_shim_and_the_guard_alone(
     tmp_path: Path,
 ) -> None:
     common = [str(UGV_GENOME), "--robot", "ugv", "--seed", "3", "--n", "4", "--label", "ref"]
-    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
+    # the UGV decides twice per trained period as deployed; the reference genome's is 1 s
+    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard", "--control-period",
+             "0.5"]  # fmt: skip
     assert mentor_eval([*common, *flags, "--out", str(tmp_path / "all.json")]) == 0
     assert mentor_eval([*common, "--deployed", "--out", str(tmp_path / "d.json")]) == 0
     every = json.loads((tmp_path / "all.json").read_text())["runs"]

@@ -74,6 +74,8 @@ def test_headline_planners_run_as_the_benchmark_scores_them(robot: str, genome: 
     assert values["turn_gain"] == deployed.turn_gain == (0.75 if robot == "swarm" else 1.0)
     assert values["view_margin"] == (deployed.view_margin or 0.0)
     assert values["view_margin"] == (0.1 if robot == "swarm" else 0.0)
+    assert values["control_period"] == deployed.control_period == (
+        1.0 if robot == "swarm" else 0.25)
 
 
 def test_a_bad_robot_list_is_refused_in_one_line(tmp_path: Path) -> None:
@@ -192,7 +194,7 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     (sim_values,) = sim["parameters"]
     assert sim_values["robots"] == ["ugv_0", "swarm_0"]
     assert sim_values["profiles"] == ["ugv", "swarm"]
-    assert sim_values["control_period"] == 0.5
+    assert sim_values["control_period"] == 0.25  # the UGV's headline period, the shorter
     assert sim_values["real_time_factor"] == 1.0
     (values,) = swarm["parameters"]
     assert values["genome"] == SWARM and values["decide_on_timer"] is True
@@ -200,9 +202,11 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     assert values["view_margin"] == 0.1
     assert ugv["namespace"] == "ugv_0" and ugv["parameters"][0]["turn_gain"] == 1.0
     assert ugv["parameters"][0]["view_margin"] == 0.0
+    assert ugv["parameters"][0]["control_period"] == 0.25 and values["control_period"] == 1.0
 
 
-LAYERS = ("scan_map", "rotation_shim_deg", "collision_guard", "turn_gain", "view_margin")
+LAYERS = ("control_period", "scan_map", "rotation_shim_deg", "collision_guard", "turn_gain",
+          "view_margin")
 
 
 def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores_it(
@@ -215,7 +219,7 @@ def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores
     assert not set(LAYERS) & set(values)
     (swarm,) = _launch(planner_launch_file, genome=SWARM, profile="swarm", headline="true")
     (values,) = swarm["parameters"]
-    assert {k: values[k] for k in LAYERS} == headline_parameters("swarm")
+    assert {k: values[k] for k in LAYERS} == headline_parameters("swarm", SWARM)
     assert values["turn_gain"] == 0.75 and values["view_margin"] == 0.1
     assert values["scan_map"] is True
     (ugv,) = _launch(planner_launch_file, genome=UGV, headline="true", turn_gain="0.9",

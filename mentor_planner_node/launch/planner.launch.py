@@ -16,9 +16,10 @@ between decisions, for bases that stop on a quiet ``cmd_vel``). With ``scan_map`
 on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
 odometry frame (``docs/ros.md``, "Global plans"). ``headline:=true`` runs it as
 ``mentor-bench --deployed`` scores the shipped planners: ``scan_map:=true
-rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's gain on the turn and view
-corridor (``turn_gain:=0.75 view_margin:=0.1`` for the Swarm-Robot, ``1`` and ``0`` (none)
-for the UGV); any of the five given as well wins.
+rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's decision period, gain on the
+turn and view corridor (``turn_gain:=0.75 view_margin:=0.1`` for the Swarm-Robot at its
+genome's period; for the UGV ``control_period:=0.25``, twice per trained period, ``1`` and
+``0`` (none)); any of the six given as well wins.
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ ARGUMENTS = {
     "use_sim_time": "false",
     "headline": "false",
     # '': the headline value with headline:=true, else the node's default
+    "control_period": "",
     "rotation_shim_deg": "",
     "collision_guard": "",
     "turn_gain": "",
@@ -58,11 +60,11 @@ ARGUMENTS = {
 def _layers(value: dict[str, str]) -> dict[str, Any]:
     """The deployment layers' parameters: the headline mode's, then those given."""
     headline = launch_flag("headline", value["headline"])
-    layers = headline_parameters(value["profile"]) if headline else {}
+    layers = headline_parameters(value["profile"], value["genome"]) if headline else {}
     for name in ("scan_map", "collision_guard"):
         if value[name].strip():
             layers[name] = launch_flag(name, value[name])
-    for name in ("rotation_shim_deg", "turn_gain", "view_margin"):
+    for name in ("control_period", "rotation_shim_deg", "turn_gain", "view_margin"):
         if value[name].strip():
             layers[name] = launch_number(name, value[name])
     return layers

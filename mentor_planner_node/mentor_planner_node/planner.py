@@ -121,7 +121,7 @@ class PlannerNode(Node):
         margin = p.view_margin if p.view_margin > 0.0 else None
         self.planner = (
             GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard,
-                               p.turn_gain, margin)
+                               p.turn_gain, margin, p.control_period)
             if p.genome
             else None
         )  # fmt: skip

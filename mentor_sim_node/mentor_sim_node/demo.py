@@ -13,8 +13,8 @@ working directory: run it from the repository root, or give ``--genome``), for 2
 fast as the planners answer; ``--real-time-factor 1`` runs in real time (watch ``/clock``,
 ``/mentor/obstacles`` and the robots' topics in Foxglove or rviz). ``--headline`` runs the
 planners as the benchmark's headline planners: on a map of their own scans, behind the rotation
-shim and the collision guard, with their robot's gain on the turn (``mentor-bench
---deployed``). Discovery stays on this machine
+shim and the collision guard, at their robot's decision period, gain on the turn and view
+corridor (``mentor-bench --deployed``). Discovery stays on this machine
 (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, ``ROS_DOMAIN_ID=42``) unless the environment
 says otherwise.
 """
@@ -62,7 +62,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--headline", action="store_true",
         help="planners on a map of their own scans, behind the rotation shim (45 deg) and the "
-             "collision guard, as the benchmark's headline planners",
+             "collision guard, at their robot's decision period, as the benchmark's headline "
+             "planners",
     )
     return p
 

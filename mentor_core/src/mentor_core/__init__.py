@@ -112,6 +112,7 @@ _EXPORTS: dict[str, str] = {
     "GenomePlanner": "mentor_core.runtime.planner",
     "genome_control_period": "mentor_core.runtime.planner",
     "deployed_turn_gain": "mentor_core.runtime.planner",
+    "deployed_control_period": "mentor_core.runtime.planner",
     "deployed_view_margin": "mentor_core.runtime.planner",
     "DecisionGate": "mentor_core.runtime.planner",
     "RobotPlanner": "mentor_core.runtime.robot_graph",
@@ -315,6 +316,9 @@ if TYPE_CHECKING:  # the same names, for type checkers
     )
     from mentor_core.runtime.planner import (
         GenomePlanner as GenomePlanner,
+    )
+    from mentor_core.runtime.planner import (
+        deployed_control_period as deployed_control_period,
     )
     from mentor_core.runtime.planner import (
         deployed_turn_gain as deployed_turn_gain,

@@ -31,10 +31,12 @@ from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
 from mentor_core.runtime.planner import (
     DEPLOYED_SHIM_DEG,
+    deployed_control_period,
     deployed_turn_gain,
     deployed_view_margin,
     planner_profile,
 )
+from mentor_core.sim.decision_split import at_control_period
 from mentor_core.sim.episode import InputGoals, Policy
 from mentor_core.sim.robots import RobotProfile, with_planner
 from mentor_core.sim.view_corridor import set_view_margin
@@ -118,6 +120,15 @@ def with_view_margin(contender: Contender, margin: float | None) -> Contender:
     return dataclasses.replace(contender, profile=profile)
 
 
+def with_control_period(contender: Contender, period: float | None) -> Contender:
+    """``contender`` (an evolved planner) deciding every ``period`` s, each decision that share
+    of its trained period's step and turn (:mod:`mentor_core.sim.decision_split`; None: as
+    trained), its name unchanged (``bench.json`` lists the period among its settings).
+    ConfigError for a period longer than its own."""
+    profile = at_control_period(contender.profile, period, contender.source or contender.name)
+    return dataclasses.replace(contender, profile=profile)
+
+
 def behind_collision_guard(contender: Contender) -> Contender:
     """``contender`` with a collision guard vetting its decisions against what its sensors
     read lately (:mod:`mentor_core.sim.collision_guard`), named ``guard-<name>``."""
@@ -127,21 +138,25 @@ def behind_collision_guard(contender: Contender) -> Contender:
 
 def as_deployed(
     contender: Contender, lookahead: float | None = None, turn_gain: float | None = None,
-    view_margin: float | None = None,
+    view_margin: float | None = None, control_period: float | None = None,
 ) -> Contender:  # fmt: skip
     """``contender`` (an evolved planner) as the shipped planners are deployed and scored
-    (``benchmarks/RESULTS.md``, "Where it stands"): on its scan map (:func:`on_scan_map`,
-    ``lookahead``), behind the collision guard and a rotation shim of
-    :data:`DEPLOYED_SHIM_DEG`, with ``turn_gain`` on its network's turn (default its robot's:
-    :func:`~mentor_core.runtime.planner.deployed_turn_gain`) and a view corridor of
-    ``view_margin`` (default its robot's, if any:
+    (``benchmarks/RESULTS.md``, "Where it stands"): deciding every ``control_period`` s
+    (default its robot's: :func:`~mentor_core.runtime.planner.deployed_control_period`) on
+    its scan map (:func:`on_scan_map`, ``lookahead``), behind the collision guard and a
+    rotation shim of :data:`DEPLOYED_SHIM_DEG`, with ``turn_gain`` on its network's turn
+    (default its robot's: :func:`~mentor_core.runtime.planner.deployed_turn_gain`) and a
+    view corridor of ``view_margin`` (default its robot's, if any:
     :func:`~mentor_core.runtime.planner.deployed_view_margin`; ``inf``: none), named
     ``mapped-guard-shim-<name>`` (``mentor-bench --deployed``; the planner node's
-    ``scan_map``, ``rotation_shim_deg``, ``collision_guard``, ``turn_gain`` and
-    ``view_margin``)."""
+    ``control_period``, ``scan_map``, ``rotation_shim_deg``, ``collision_guard``,
+    ``turn_gain`` and ``view_margin``)."""
     gain = deployed_turn_gain(contender.profile) if turn_gain is None else turn_gain
     margin = deployed_view_margin(contender.profile) if view_margin is None else view_margin
-    gained = with_view_margin(with_turn_gain(contender, gain), margin)
+    if control_period is None:
+        control_period = deployed_control_period(contender.profile)
+    split = with_control_period(contender, control_period)
+    gained = with_view_margin(with_turn_gain(split, gain), margin)
     shimmed = behind_rotation_shim(gained, math.radians(DEPLOYED_SHIM_DEG))
     return on_scan_map(behind_collision_guard(shimmed), lookahead)
 

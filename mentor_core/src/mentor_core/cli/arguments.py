@@ -90,6 +90,14 @@ def view_margin_value(margin: float | None) -> float | None:
     return margin
 
 
+def control_period_value(period: float | None) -> float | None:
+    """``--control-period S`` (None when not given); MentorError unless S is a positive number
+    of seconds (whether it is at most a genome's own period is the genome's check)."""
+    if period is not None and not (math.isfinite(period) and period > 0.0):
+        raise MentorError(f"--control-period must be a positive number of seconds, got {period}")
+    return period
+
+
 def check_deployed(args: argparse.Namespace) -> None:
     """MentorError when ``--deployed`` comes with one of the flags that add the layers it
     adds itself (``--scan-map``, ``--rotation-shim``, ``--collision-guard``); its gain on

@@ -39,6 +39,7 @@ from mentor_core.benchmark.contenders import (
     evolved,
     hand_written,
     on_scan_map,
+    with_control_period,
     with_turn_gain,
     with_view_margin,
 )
@@ -55,6 +56,7 @@ from mentor_core.benchmark.suite import (
 )
 from mentor_core.cli.arguments import (
     check_deployed,
+    control_period_value,
     rotation_shim_threshold,
     turn_gain_value,
     view_margin,
@@ -112,13 +114,19 @@ def build_parser() -> argparse.ArgumentParser:
                         "to its goal (the carrot on a plan) in all its runs; 'none': all "
                         "(default: as trained, all for most genomes; with --deployed, its "
                         "robot's)")
+    p.add_argument("--control-period", type=float, metavar="S",
+                   help="each genome decides every S s in all its runs, each decision that "
+                        "share of its trained step and turn (the same pace and turn rate); "
+                        "at most its trained period (default: as trained; with --deployed, "
+                        "its robot's)")
     p.add_argument("--deployed", action="store_true",
                    help="run each genome only as the shipped planners are deployed: on its "
                         "scan map behind the collision guard and a 45 deg rotation shim, with "
-                        "its robot's gain on the turn and view corridor (Swarm-Robot 0.75 "
-                        "and 0.1 m), as mapped-guard-shim-<label>; the baselines plain, "
-                        "guarded, on their scan map and both (not with --scan-map, "
-                        "--rotation-shim or --collision-guard; --turn-gain and --view-margin "
+                        "its robot's decision period, gain on the turn and view corridor "
+                        "(UGV: twice per trained period; Swarm-Robot: gain 0.75 and 0.1 m), "
+                        "as mapped-guard-shim-<label>; the baselines plain, guarded, on their "
+                        "scan map and both (not with --scan-map, --rotation-shim or "
+                        "--collision-guard; --control-period, --turn-gain and --view-margin "
                         "replace its robot's)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
@@ -174,10 +182,12 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     check_deployed(args)
     gain = None if args.turn_gain is None else turn_gain_value(args.turn_gain)
     margin = view_margin_value(args.view_margin)
-    if args.deployed:  # its robot's gain and corridor unless given
-        chosen = [as_deployed(c, args.lookahead, gain, margin) for c in genomes]
+    period = control_period_value(args.control_period)
+    if args.deployed:  # its robot's period, gain and corridor unless given
+        chosen = [as_deployed(c, args.lookahead, gain, margin, period) for c in genomes]
         chosen += _variants(baselines, True, True, args.lookahead)
     else:
+        genomes = [with_control_period(c, period) for c in genomes]
         if gain is not None and gain != 1.0:
             genomes = [with_turn_gain(c, gain) for c in genomes]
         genomes = [with_view_margin(c, margin) for c in genomes]

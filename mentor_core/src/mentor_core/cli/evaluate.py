@@ -28,9 +28,12 @@ the planner node's ``collision_guard`` does; ``--turn-gain`` scales the network'
 (:mod:`mentor_core.sim.turn_gain`), as the planner node's ``turn_gain`` does; ``--view-margin``
 shows the network only what lies near its way (:mod:`mentor_core.sim.view_corridor`), as the
 planner node's ``view_margin`` does (``--view-margin none`` shows it everything, even a genome
-trained with a corridor). ``--deployed`` runs each genome only as the shipped planners are
-deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard, with the robot's gain
-on the turn and view corridor (the Swarm-Robot's 0.75 and 0.1 m; ``--turn-gain`` and
+trained with a corridor); ``--control-period`` has it decide more often than trained, each
+decision that share of its step and turn (:mod:`mentor_core.sim.decision_split`), as the
+planner node's ``control_period`` does. ``--deployed`` runs each genome only as the shipped
+planners are deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard, with the
+robot's decision period, gain on the turn and view corridor (the UGV's half its trained
+period, the Swarm-Robot's 0.75 and 0.1 m; ``--control-period``, ``--turn-gain`` and
 ``--view-margin`` replace them, to leave one layer out), without the plain run
 (:func:`mentor_core.benchmark.contenders.as_deployed`).
 
@@ -54,6 +57,7 @@ from mentor_core.atomic import write_json_atomic
 from mentor_core.cli.arguments import (
     Parser,
     check_deployed,
+    control_period_value,
     count,
     duration,
     fail,
@@ -75,12 +79,14 @@ from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner
 from mentor_core.runtime.planner import (
     DEPLOYED_SHIM_DEG,
     GenomePlanner,
+    deployed_control_period,
     deployed_turn_gain,
     deployed_view_margin,
     planner_profile,
 )
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.simulator import Decide
+from mentor_core.sim.decision_split import at_control_period
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
 from mentor_core.sim.scenarios import sample_scenarios, sample_world, start_overlap
 from mentor_core.sim.view_corridor import set_view_margin
@@ -311,13 +317,22 @@ def build_parser() -> argparse.ArgumentParser:
         "genomes; with --deployed, the robot's)",
     )
     p.add_argument(
+        "--control-period",
+        type=float,
+        metavar="S",
+        help="decide every S s, each decision that share of the trained step and turn (the "
+        "same pace and turn rate); at most the genome's period (default: as trained; with "
+        "--deployed, the robot's)",
+    )
+    p.add_argument(
         "--deployed",
         action="store_true",
         help="run each genome only as deployed: on the map of its own readings behind the "
-        "rotation shim (45 deg) and the collision guard, with the robot's gain on the turn "
-        "and view corridor (Swarm-Robot 0.75 and 0.1 m), without the plain run (not with "
-        "--scan-map, --rotation-shim or --collision-guard; --turn-gain and --view-margin "
-        "replace the robot's)",
+        "rotation shim (45 deg) and the collision guard, with the robot's decision period, "
+        "gain on the turn and view corridor (UGV: twice per trained period; Swarm-Robot: gain "
+        "0.75 and 0.1 m), without the plain run (not with --scan-map, --rotation-shim or "
+        "--collision-guard; --control-period, --turn-gain and --view-margin replace the "
+        "robot's)",
     )
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
@@ -373,6 +388,7 @@ def main(argv: list[str] | None = None) -> int:
         shim = rotation_shim_threshold(args.rotation_shim)
         gain = turn_gain_value(args.turn_gain)
         margin = view_margin_value(args.view_margin)
+        period = control_period_value(args.control_period)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
         if args.deployed:  # the robot's gain and corridor unless given
@@ -389,6 +405,10 @@ def main(argv: list[str] | None = None) -> int:
         for label, path in zip(labels, args.genomes, strict=True):
             genome, metadata = load_genome_and_metadata(path)
             planner = planner_profile(profile, metadata, path)
+            if args.deployed and period is None:  # the robot's, of this genome's period
+                planner = at_control_period(planner, deployed_control_period(planner), path)
+            else:
+                planner = at_control_period(planner, period, path)
             if shim is not None:
                 planner = with_planner(planner, rotation_shim=shim, source=path)
             if args.collision_guard:

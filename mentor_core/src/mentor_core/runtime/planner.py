@@ -61,6 +61,7 @@ from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.sim import observation
 from mentor_core.sim.collision_guard import CollisionGuard
+from mentor_core.sim.decision_split import at_control_period
 from mentor_core.sim.robots import (
     ROBOTS_ENV,
     RobotProfile,
@@ -135,6 +136,20 @@ DEPLOYED_SHIM_DEG = 45.0
 DEPLOYED_VIEW_MARGIN = {"swarm": 0.1}
 
 
+#: decisions a shipped planner of a robot makes in the period it was trained to decide in
+#: (:mod:`mentor_core.sim.decision_split`; absent: 1). Chosen on the benchmark's validation
+#: split (``benchmarks/RESULTS.md``, "Deciding twice as often at deployment"): the UGV's
+#: shipped planners reach 96.8 % / 0.760 SPL of its 720 pairs at 0.5 s and 97.5 % / 0.801 at
+#: 0.25 s.
+DEPLOYED_DECISIONS = {"ugv": 2}
+
+
+def deployed_control_period(profile: RobotProfile) -> float:
+    """The period (s) a shipped planner of ``profile`` (a planner's profile: its trained
+    period) decides at: that period over its robot's :data:`DEPLOYED_DECISIONS`."""
+    return profile.control_period / DEPLOYED_DECISIONS.get(profile.name, 1)
+
+
 def deployed_turn_gain(profile: RobotProfile | str) -> float:
     """The gain on the turn the shipped planners of a robot (a profile or its name) are
     deployed with (:data:`DEPLOYED_TURN_GAIN`; 1 for any other robot)."""
@@ -150,12 +165,19 @@ def deployed_view_margin(profile: RobotProfile | str) -> float | None:
     return DEPLOYED_VIEW_MARGIN.get(name)
 
 
+def genome_profile(genome_path: str | Path, profile_name: str) -> RobotProfile:
+    """The profile of robot ``profile_name`` as the genome in ``genome_path`` was trained to
+    use it (:func:`planner_profile` of its metadata). The same errors as
+    :meth:`GenomePlanner.load`."""
+    _, metadata = load_genome_and_metadata(genome_path)
+    return planner_profile(get_profile(profile_name), metadata, genome_path)
+
+
 def genome_control_period(genome_path: str | Path, profile_name: str) -> float:
     """The control period (s) the genome in ``genome_path`` decides at on robot
     ``profile_name``: its metadata's ``control_period``, the robot's where absent. The same
     errors as :meth:`GenomePlanner.load`."""
-    _, metadata = load_genome_and_metadata(genome_path)
-    return planner_profile(get_profile(profile_name), metadata, genome_path).control_period
+    return genome_profile(genome_path, profile_name).control_period
 
 
 class GenomePlanner:
@@ -202,7 +224,7 @@ class GenomePlanner:
     def load(
         cls, genome_path: str | Path, profile_name: str, rotation_shim: float | None = None,
         collision_guard: bool = False, turn_gain: float = 1.0,
-        view_margin: float | None = None,
+        view_margin: float | None = None, control_period: float | None = None,
     ) -> GenomePlanner:  # fmt: skip
         """Planner of a genome JSON file for a named profile; ``rotation_shim`` (rad), when
         given, puts it behind a rotation shim of that threshold whatever its metadata says
@@ -210,14 +232,18 @@ class GenomePlanner:
         on no arena (:mod:`mentor_core.sim.collision_guard`); ``turn_gain`` scales its
         network's turn (:mod:`mentor_core.sim.turn_gain`); ``view_margin`` (m), when given,
         shows its network only what lies near its way (:mod:`mentor_core.sim.view_corridor`;
-        ``inf``: everything, even for a genome trained with a corridor).
+        ``inf``: everything, even for a genome trained with a corridor); ``control_period``
+        (s), when given, has it decide that often, each decision that share of its trained
+        period's step and turn (:mod:`mentor_core.sim.decision_split`).
 
         FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
         that does not fit it, a threshold outside (0, pi], a gain outside (0, 1], a margin
-        that is not positive); both one line naming the file or key and the fault.
+        that is not positive, a period longer than the trained one); both one line naming
+        the file or key and the fault.
         """
         genome, metadata = load_genome_and_metadata(genome_path)
         profile = planner_profile(get_profile(profile_name), metadata, genome_path)
+        profile = at_control_period(profile, control_period, genome_path)
         if rotation_shim is not None:
             profile = with_planner(profile, rotation_shim=rotation_shim, source=genome_path)
         if collision_guard:

@@ -4,14 +4,14 @@ and ``mentor.launch.py`` both start.
 One robot per profile entry, named ``<profile>_<i>`` (``ugv ugv swarm``: ``ugv_0``, ``ugv_1``,
 ``swarm_0``), each planning with its profile's genome (``bags/regression/<profile>_reference_
 genome.json`` unless one is given). A *headline* planner runs as ``mentor-bench --deployed``
-scores it (:func:`mentor_core.benchmark.contenders.as_deployed`): on a map of its own scans,
-behind the rotation shim (45 deg) and the collision guard, with its robot's gain on the turn
-and view corridor.
+scores it (:func:`mentor_core.benchmark.contenders.as_deployed`): at its robot's control
+period, on a map of its own scans, behind the rotation shim (45 deg) and the collision guard,
+with its robot's gain on the turn and view corridor.
 
-The simulator steps at the period the genomes decide at (their metadata). In lockstep every
-genome must decide at the same period; in continuous mode (the simulator runs like Gazebo and
-each planner decides on its own timer) they may differ, and the simulator steps at the
-shortest.
+The simulator steps at the period the planners decide at (their genomes' metadata, or the
+headline period). In lockstep every planner must decide at the same period; in continuous
+mode (the simulator runs like Gazebo and each planner decides on its own timer) they may
+differ, and the simulator steps at the shortest.
 """
 
 from __future__ import annotations
@@ -24,20 +24,24 @@ from typing import Any
 from mentor_core.errors import FileFormatError, MentorError
 from mentor_core.runtime.planner import (
     DEPLOYED_SHIM_DEG,
+    deployed_control_period,
     deployed_turn_gain,
     deployed_view_margin,
     genome_control_period,
+    genome_profile,
 )
 from mentor_core.sim.robots import get_profile
 
 
-def headline_parameters(profile: str) -> dict[str, Any]:
-    """The planner node's parameters that run a planner of ``profile`` as a headline planner,
-    as ``mentor-bench --deployed`` does (module docstring): its scan map, the rotation shim,
-    the collision guard, the robot's gain on the turn and its view corridor's margin (0:
-    none)."""
-    return {"scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG, "collision_guard": True,
-            "turn_gain": deployed_turn_gain(profile),
+def headline_parameters(profile: str, genome: str | Path) -> dict[str, Any]:
+    """The planner node's parameters that run the genome in ``genome`` on a robot of
+    ``profile`` as a headline planner, as ``mentor-bench --deployed`` does (module
+    docstring): the robot's control period for it, its scan map, the rotation shim, the
+    collision guard, the robot's gain on the turn and its view corridor's margin (0: none).
+    The genome file's errors (:func:`~mentor_core.runtime.planner.genome_profile`)."""
+    period = deployed_control_period(genome_profile(genome, profile))
+    return {"control_period": period, "scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG,
+            "collision_guard": True, "turn_gain": deployed_turn_gain(profile),
             "view_margin": deployed_view_margin(profile) or 0.0}  # fmt: skip
 
 
@@ -126,7 +130,7 @@ def robot_planners(
             raise FileFormatError(genome, f"no such genome file (give one for {profile})")
         options: dict[str, Any] = {}
         if headline:
-            options.update(headline_parameters(profile))
+            options.update(headline_parameters(profile, genome))
         if continuous:
             options["decide_on_timer"] = True
         planners.append(RobotPlanner(name, profile, genome, options))
@@ -136,13 +140,15 @@ def robot_planners(
 def simulator_period(
     planners: Sequence[RobotPlanner], continuous: bool, continuous_hint: str = "continuous mode"
 ) -> float:
-    """The simulator's control period (s): the one period the genomes decide at, or with
-    ``continuous`` the shortest. MentorError (naming ``continuous_hint``, the way to run
-    them) when genomes of different periods would share a lockstep simulator, and the genome
-    files' errors (:func:`~mentor_core.runtime.planner.genome_control_period`)."""
-    periods = {genome_control_period(p.genome, p.profile) for p in planners}
+    """The simulator's control period (s): the one period the planners decide at (their
+    ``control_period`` option, else their genome's), or with ``continuous`` the shortest.
+    MentorError (naming ``continuous_hint``, the way to run them) when planners of different
+    periods would share a lockstep simulator, and the genome files' errors
+    (:func:`~mentor_core.runtime.planner.genome_control_period`)."""
+    periods = {p.options.get("control_period") or genome_control_period(p.genome, p.profile)
+               for p in planners}  # fmt: skip
     if len(periods) > 1 and not continuous:
         shown = ", ".join(f"{v:g}" for v in sorted(periods))
-        raise MentorError(f"the genomes decide at different periods ({shown} s); run them "
+        raise MentorError(f"the planners decide at different periods ({shown} s); run them "
                           f"with {continuous_hint}")  # fmt: skip
     return min(periods)
