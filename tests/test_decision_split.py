@@ -16,6 +16,7 @@ from mentor_core.benchmark.contenders import as_deployed, evolved
 from mentor_core.cli import bench as bench_cli
 from mentor_core.cli import evaluate as eval_cli
 from mentor_core.errors import ConfigError
+from mentor_core.files.bags import read_episode_bag
 from mentor_core.runtime.planner import GenomePlanner, deployed_control_period, genome_profile
 from mentor_core.runtime.robot_graph import headline_parameters, robot_planners, simulator_period
 from mentor_core.sim.decision_split import at_control_period
@@ -111,3 +112,25 @@ def test_the_command_lines_take_a_period_and_refuse_a_bad_one_in_one_line(
             assert main([str(UGV_PLANNER), *robot, "--control-period", bad]) == 2
             err = capsys.readouterr().err
             assert fault in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_recording_steps_at_the_period_the_planners_decide_at(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``mentor-eval --deployed --record``: the bag's simulator steps every 0.25 s, as the UGV's
+    planner decides, so every episode ends as the table says; genomes of two periods are
+    refused in one line before anything is written."""
+    bag = tmp_path / "bag"
+    common = [str(UGV_PLANNER), "--bag", "bags/unseen/ugv", "--deployed"]
+    assert eval_cli.main([*common, "--record", str(bag)]) == 0
+    err = capsys.readouterr().err
+    assert "recorded 10 episodes" in err and "in the recording" not in err
+    assert read_episode_bag(bag).metadata["control_period"] == 0.25
+    genome = json.loads(UGV_PLANNER.read_text())
+    genome["metadata"]["control_period"] = 1.0  # a genome trained to decide every 1 s
+    slow = tmp_path / "slow.json"
+    slow.write_text(json.dumps(genome))
+    assert eval_cli.main([str(UGV_PLANNER), str(slow), "--bag", "bags/unseen/ugv",
+                          "--record", str(tmp_path / "mixed")]) == 2  # fmt: skip
+    err = capsys.readouterr().err.strip().splitlines()
+    assert "different periods (0.5, 1 s)" in err[-1] and not (tmp_path / "mixed").exists()

@@ -191,6 +191,18 @@ def eval_document(
     }
 
 
+def _one_period(profiles: list[RobotProfile]) -> RobotProfile:
+    """The profile the recording's simulator steps with: the planners' (their control period
+    and the time budgets the table used). MentorError when they decide at different periods,
+    which one recording cannot step at."""
+    periods = sorted({p.control_period for p in profiles})
+    if len(periods) > 1:
+        shown = ", ".join(f"{v:g}" for v in periods)
+        raise MentorError(f"--record: the genomes decide at different periods ({shown} s); "
+                          "record them one --record at a time")  # fmt: skip
+    return profiles[0]
+
+
 def record(
     path: Path,
     profile: RobotProfile,
@@ -208,7 +220,8 @@ def record(
     for ``runs[i]``) runs in the reference (pymunk) simulator, ``robot_<i>`` for genome ``i``.
     An outcome that differs from the batched evaluation (float32 scans can tip a borderline
     episode) is reported on stderr. ``numbers``: the scenarios' numbers in their source;
-    ``force``: replace an existing bag at ``path``.
+    ``force``: replace an existing bag at ``path``. ``profile``: the planners' (its control
+    period is the recording's).
     """
     names = [f"robot_{i}" for i in range(len(planners))]
     decide: dict[str, Decide] = {ns: p.decide for ns, p in zip(names, planners, strict=True)}
@@ -400,6 +413,7 @@ def main(argv: list[str] | None = None) -> int:
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
         planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner] = []
+        recorded: list[RobotProfile] = []  # the profile each recorded planner decides with
         first = [] if args.deployed else [""]  # the plain run
         modes = first + ["+global-plan"] * args.global_plan + ["+scan-map"] * args.scan_map
         for label, path in zip(labels, args.genomes, strict=True):
@@ -439,9 +453,10 @@ def main(argv: list[str] | None = None) -> int:
                     plain = GenomePlanner(genome, planner, str(path), arena=world.size)
                     config = mapped if mode == "+scan-map" else guide
                     planners.append(_planner(plain, config, world, mode))
+                    recorded.append(planner)
         if args.record is not None:
-            record(args.record, profile, world, chosen, args.time_limit, runs, planners,
-                   numbers, args.force)  # fmt: skip
+            record(args.record, _one_period(recorded), world, chosen, args.time_limit, runs,
+                   planners, numbers, args.force)  # fmt: skip
         if args.out is not None:
             doc = eval_document(
                 profile, world, scenarios, source, args.time_limit, runs, skipped
