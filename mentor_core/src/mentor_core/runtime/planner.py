@@ -139,7 +139,7 @@ DEPLOYED_VIEW_MARGIN = {"swarm": 0.1}
 #: decisions a shipped planner of a robot makes in the period it was trained to decide in
 #: (:mod:`mentor_core.sim.decision_split`; absent: 1). Chosen on the benchmark's validation
 #: split (``benchmarks/RESULTS.md``, "Deciding twice as often at deployment"): the UGV's
-#: shipped planners reach 96.8 % / 0.760 SPL of its 720 pairs at 0.5 s and 97.5 % / 0.801 at
+#: shipped planners reach 96.8 % / 0.761 SPL of its 720 pairs at 0.5 s and 97.5 % / 0.801 at
 #: 0.25 s.
 DEPLOYED_DECISIONS = {"ugv": 2}
 
