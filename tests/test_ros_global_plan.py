@@ -53,14 +53,15 @@ def _planner(graph: Graph, **extra: object) -> PlannerNode:
     )
 
 
-def _run_one_episode(graph: Graph, world: Path, bag: Path) -> SimNode:
-    """The simulator running the world file's one UGV episode to its end, recorded in ``bag``."""
+def _run_one_episode(graph: Graph, world: Path, bag: Path, period: float = 0.0) -> SimNode:
+    """The simulator running the world file's one UGV episode to its end, recorded in ``bag``,
+    stepping every ``period`` s (0: the profile's)."""
     sim = graph.add(
         SimNode(
             context=graph.context,
             parameter_overrides=params(
                 robots=["robot_0"], profiles=["ugv"], world=str(world),
-                episodes=1, record=str(bag), time_limit=50.0,
+                episodes=1, record=str(bag), time_limit=50.0, control_period=period,
             ),
         )
     )
@@ -105,9 +106,11 @@ def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
     np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
 
 
-@pytest.mark.parametrize("margin", [None, 0.5], ids=["all-seen", "view-corridor"])
+# the reference genome decides every 1 s; at 0.5 s each decision is half its step and turn
+@pytest.mark.parametrize("margin, period", [(None, None), (0.5, None), (None, 0.5)],
+                         ids=["all-seen", "view-corridor", "half-period"])  # fmt: skip
 def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchmark(
-    graph: Graph, tmp_path: Path, margin: float | None
+    graph: Graph, tmp_path: Path, margin: float | None, period: float | None
 ) -> None:
     (tmp_path / "world.yaml").write_text(
         "format: mentor-world\nversion: 1\nsize: 12.0\n"
@@ -121,9 +124,9 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
     probe.create_subscription(OccupancyGridMsg, "/robot_0/scan_map", maps.append, QOS_MAP)
     planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True,
-                       view_margin=margin or 0.0)
+                       view_margin=margin or 0.0, control_period=period or 0.0)
     assert planner.global_plan is not None and not planner.global_plan.ready  # no arena yet
-    sim = _run_one_episode(graph, tmp_path / "world.yaml", bag)
+    sim = _run_one_episode(graph, tmp_path / "world.yaml", bag, period or 0.0)
     graph.spin_until(lambda: bool(paths) and bool(maps), timeout=2.0)
     assert planner.zero_commands == 0 and len(sim.outcomes) == 1
     assert paths and paths[-1].header.frame_id == "odom"  # the plans it followed, for RViz
@@ -136,7 +139,7 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     # --view-margin: the corridor runs to the carrot the node steers to)
     source = load_scenario_source(world_file=tmp_path / "world.yaml")
     plain = GenomePlanner.load(GENOME, "ugv", np.pi / 4, collision_guard=True,
-                               view_margin=margin)
+                               view_margin=margin, control_period=period)
     mapped = ScanGuidedPlanner(plain, scan_guide_config(plain.profile), 12.0)
     run = recorded_episodes(read_episode_bag(bag), bag)[0]
     seen: list[np.ndarray] = []  # the map after each decision
@@ -146,6 +149,7 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
         seen.append(mapped.scan.map.data)
         return decision
 
+    assert run.setup.profile.control_period == plain.profile.control_period
     ref = run_reference_episode(source.world, [run.setup], {"robot_0": decide})["robot_0"]
     assert run.outcome == ref.outcome
     poses = np.array([o.pose for o in run.odometry])

@@ -29,8 +29,9 @@ Metadata layout (under the bag's ``metadata`` key)::
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -349,7 +350,8 @@ class RecordedRun:
 
 
 def episode_setups(log: EpisodeLog, source: str | Path = "<bag>") -> list[list[RobotSetup]]:
-    """Per episode, the exact robot setups of a recording (its metadata).
+    """Per episode, the exact robot setups of a recording (its metadata), each profile at the
+    recording's control period (as the simulator node steps it).
 
     FileFormatError naming ``source`` when the metadata is not a simulator recording.
     """
@@ -359,12 +361,15 @@ def episode_setups(log: EpisodeLog, source: str | Path = "<bag>") -> list[list[R
         raise FileFormatError(source, "not a simulator recording (no recorder metadata)")
     out = []
     try:
+        period = float(meta["control_period"])
+        if not (math.isfinite(period) and period > 0.0):
+            raise ValueError(f"control_period {period}")
         for ep in meta["episodes"]:
             out.append(
                 [
                     RobotSetup(
                         name=str(r["name"]),
-                        profile=get_profile(str(r["profile"])),
+                        profile=replace(get_profile(str(r["profile"])), control_period=period),
                         start=(float(r["start"][0]), float(r["start"][1]), float(r["start"][2])),
                         goal=(float(r["goal"][0]), float(r["goal"][1])),
                         scenario=int(r["scenario"]),
