@@ -85,6 +85,7 @@ from mentor_core.runtime.planner import (
     planner_profile,
 )
 from mentor_core.runtime.recording import record_planners
+from mentor_core.runtime.robot_graph import one_period
 from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.decision_split import at_control_period
 from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
@@ -195,11 +196,7 @@ def _one_period(profiles: list[RobotProfile]) -> RobotProfile:
     """The profile the recording's simulator steps with: the planners' (their control period
     and the time budgets the table used). MentorError when they decide at different periods,
     which one recording cannot step at."""
-    periods = sorted({p.control_period for p in profiles})
-    if len(periods) > 1:
-        shown = ", ".join(f"{v:g}" for v in periods)
-        raise MentorError(f"--record: the genomes decide at different periods ({shown} s); "
-                          "record them one --record at a time")  # fmt: skip
+    one_period([p.control_period for p in profiles], "--record them one at a time")
     return profiles[0]
 
 

@@ -145,10 +145,18 @@ def simulator_period(
     MentorError (naming ``continuous_hint``, the way to run them) when planners of different
     periods would share a lockstep simulator, and the genome files' errors
     (:func:`~mentor_core.runtime.planner.genome_control_period`)."""
-    periods = {p.options.get("control_period") or genome_control_period(p.genome, p.profile)
-               for p in planners}  # fmt: skip
-    if len(periods) > 1 and not continuous:
-        shown = ", ".join(f"{v:g}" for v in sorted(periods))
-        raise MentorError(f"the planners decide at different periods ({shown} s); run them "
-                          f"with {continuous_hint}")  # fmt: skip
-    return min(periods)
+    periods = [p.options.get("control_period") or genome_control_period(p.genome, p.profile)
+               for p in planners]  # fmt: skip
+    if continuous:
+        return min(periods)
+    return one_period(periods, f"run them with {continuous_hint}")
+
+
+def one_period(periods: Iterable[float], way_out: str) -> float:
+    """The one control period (s) of some planners, for a simulator that steps them all
+    together; MentorError naming the periods and ``way_out`` when they differ."""
+    distinct = sorted(set(periods))
+    if len(distinct) > 1:
+        shown = ", ".join(f"{v:g}" for v in distinct)
+        raise MentorError(f"the planners decide at different periods ({shown} s); {way_out}")
+    return distinct[0]
