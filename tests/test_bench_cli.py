@@ -21,6 +21,7 @@ from mentor_core.training.config import shipped_config
 
 ROOT = Path(__file__).resolve().parents[1]
 UGV_GENOME = ROOT / "bags" / "regression" / "ugv_reference_genome.json"
+SWARM_PLANNER = ROOT / "planners" / "swarm-paper-dual-s1.json"
 
 
 @pytest.fixture(scope="module")
@@ -105,6 +106,9 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
         (["--robot", "ugv", "--baseline-limits", "shipped,shipped"], "--baseline-limits"),
         (["--robot", "ugv", "--lookahead", "1"], "--lookahead: only with --scan-map"),
         (["--robot", "ugv", "--scan-map", "--lookahead", "-1"], "--lookahead must be positive"),
+        (["--robot", "ugv", "--clearance-cost", "1"], "--clearance-cost: only with --scan-map"),
+        (["--robot", "ugv", "--scan-map", "--clearance-cost", "-1"], "must be a number >= 0"),
+        (["--robot", "ugv", "--deployed", "--least-margin", "0.5"], "--least-margin must be"),
         (["--robot", "ugv", "--deployed", "--collision-guard"], "--deployed: give none of"),
         (["--robot", "ugv", "--workers", "0"], "--workers must be >= 1"),
     ],
@@ -274,6 +278,28 @@ def test_lookahead_moves_the_carrot_on_the_scan_map(tmp_path: Path) -> None:
     mapped = doc["contenders"][1]
     assert mapped["name"].startswith("mapped-")
     assert mapped["scan_map"]["lookahead"] == mapped["scan_map"]["replan_distance"] == 0.75
+    assert mapped["scan_map"]["clearance_cost"] == 0.0  # the UGV's plan keeps a hard disc
+
+
+def test_clearance_cost_on_the_scan_map_is_the_robots_unless_given(tmp_path: Path) -> None:
+    docs = {}
+    for name, extra in (("default", []), ("given", ["--clearance-cost", "2",
+                                                    "--least-margin", "0.01"])):
+        out = tmp_path / name
+        assert bench_main([str(SWARM_PLANNER), "--robot", "swarm", "--families", "doe",
+                           "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
+                           "--deployed", *extra, "--out", str(out)]) == 0  # fmt: skip
+        docs[name] = load_bench(out / "bench.json")["contenders"]
+    # the Swarm-Robot's: a weight of 1, half a footprint radius (0.025 m) kept at least; the
+    # evolved planner and the baselines on their scan map plan alike
+    mapped = [c for c in docs["default"] if "scan_map" in c]
+    assert [c["name"] for c in mapped][:2] == ["mapped-guard-shim-" + str(SWARM_PLANNER),
+                                               "mapped-vfh"]  # fmt: skip
+    for c in mapped:
+        assert c["scan_map"]["clearance_cost"] == 1.0
+        assert c["scan_map"]["least_margin"] == pytest.approx(0.025)
+    given = [c["scan_map"] for c in docs["given"] if "scan_map" in c]
+    assert all(g["clearance_cost"] == 2.0 and g["least_margin"] == 0.01 for g in given)
 
 
 def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(

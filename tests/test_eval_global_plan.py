@@ -66,6 +66,9 @@ def test_a_world_from_a_ros_map(tmp_path: Path, capsys: pytest.CaptureFixture[st
         (["--robot", "ugv", "--seed", "1", "--lookahead", "-1"], "--lookahead must be"),
         (["--robot", "ugv", "--seed", "1", "--rotation-shim", "0"], "--rotation-shim must be"),
         (["--robot", "ugv", "--seed", "1", "--deployed", "--scan-map"], "--deployed: give none"),
+        (["--robot", "ugv", "--seed", "1", "--clearance-cost", "1"], "only with --scan-map"),
+        (["--robot", "ugv", "--seed", "1", "--scan-map", "--clearance-cost", "nan"],
+         "--clearance-cost must be"),
     ],
 )
 def test_bad_arguments_and_map_files_exit_2_with_one_line(

@@ -127,7 +127,7 @@ def test_the_compiled_line_of_sight_is_the_crossed_cells_test(
         seen = {}
         for fallback in (False, True):
             if fallback:
-                monkeypatch.setattr(grid_planner, "_sight_numba", None)
+                monkeypatch.setattr(grid_planner, "_along_numba", None)
             seen[fallback] = [planner.visible(s[:2], s[2:], radius)
                               for s in segments for radius in (None, 0.1)]  # fmt: skip
         assert seen[False] == seen[True]
@@ -143,3 +143,48 @@ def test_planning_on_a_rotated_map() -> None:
     assert path is not None
     back = np.c_[path[:, 1], -path[:, 0]]  # undo the turn
     assert WALL.signed_distance(_samples(back)).min() >= 0.3 - 1e-9
+
+
+# two boxes 0.7 m apart across the way from START_GAP to GOAL_GAP; the way round them is long
+GAP = World(6.0, np.array([[2.8, 0.0, 3.2, 2.65], [2.8, 3.35, 3.2, 6.0]]))
+START_GAP, GOAL_GAP = (1.0, 3.0), (5.0, 3.0)
+
+
+def _length(path: np.ndarray | None) -> float:
+    assert path is not None
+    return float(cumulative_length(path)[-1])
+
+
+def test_a_clearance_cost_takes_a_narrow_gap_rather_than_the_long_way_round() -> None:
+    grid = world_grid(GAP, RES)
+    # a disc of 0.4 cannot pass the 0.7 m gap (and the boxes close the arena): no plan
+    assert plan_path(grid, START_GAP, GOAL_GAP, 0.4) is None
+    # a disc of 0.2 must be kept, 0.4 preferred: through the gap, keeping at least 0.2
+    path = plan_path(grid, START_GAP, GOAL_GAP, 0.2, preferred=0.4, clearance_cost=3.0)
+    assert _length(path) < 4.2
+    assert path is not None and GAP.signed_distance(_samples(path)).min() >= 0.2 - 1e-9
+
+
+def test_a_clearance_cost_keeps_the_preferred_disc_where_that_costs_little() -> None:
+    # round a wall's end the cost keeps the preferred disc (to within a cell: the segments
+    # pulled straight may cut into it where that costs less than the cells they skip), and
+    # the path is about as long as the hard preferred disc's (the detour it saves is short)
+    grid = world_grid(WALL, RES)
+    hard = plan_path(grid, START, GOAL, 0.4)
+    costly = plan_path(grid, START, GOAL, 0.2, preferred=0.4, clearance_cost=3.0)
+    tight = plan_path(grid, START, GOAL, 0.2)
+    assert costly is not None and hard is not None
+    assert WALL.signed_distance(_samples(costly)).min() >= 0.4 - RES
+    assert _length(tight) < _length(costly) <= 1.01 * _length(hard)
+    # without a cost the preferred disc changes nothing
+    np.testing.assert_array_equal(
+        plan_path(grid, START, GOAL, 0.2, preferred=0.4, clearance_cost=0.0), tight
+    )
+
+
+def test_clearance_cost_settings_are_checked() -> None:
+    grid = world_grid(WALL, 0.1)
+    with pytest.raises(ValueError, match="preferred"):
+        GridPlanner(grid, 0.3, preferred=0.2)
+    with pytest.raises(ValueError, match="clearance_cost"):
+        GridPlanner(grid, 0.3, preferred=0.5, clearance_cost=-1.0)

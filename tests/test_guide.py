@@ -121,6 +121,16 @@ def test_guide_defaults_scale_with_the_robot() -> None:
     assert swarm.lookahead == pytest.approx(2 * get_profile("swarm").goal_radius)
     with pytest.raises(ValueError, match="lookahead"):
         guide_config(get_profile("ugv"), lookahead=0.0)
+    # a hard disc unless a clearance cost is asked; the least margin within the margin
+    assert ugv.clearance_cost == 0.0 and ugv.hard_inflation == ugv.inflation
+    costly = guide_config(get_profile("ugv"), least_margin=0.1, clearance_cost=1.0)
+    assert costly.planner(world_grid(World(4.0, np.zeros((0, 4))), 0.1)).preferred == (
+        pytest.approx(costly.inflation))
+    assert costly.hard_inflation == pytest.approx(costly.radius + 0.1)
+    with pytest.raises(ValueError, match="least_margin"):
+        guide_config(get_profile("ugv"), least_margin=0.3)
+    with pytest.raises(ValueError, match="clearance_cost"):
+        guide_config(get_profile("ugv"), clearance_cost=-1.0)
 
 
 def test_in_a_dead_end_the_plain_planner_fails_and_the_global_plan_reaches_the_goal() -> None:

@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN
 from mentor_core.navigation.guide import guide_config
@@ -147,3 +148,25 @@ def test_a_kept_map_plans_the_next_goal_round_what_was_read() -> None:
     mapped.decide(blind, start, (9.0, 4.5))
     path = mapped.guide.path
     assert path is not None and (np.abs(path[:, 1] - 4.25) < 0.3).all()  # straight through
+
+
+def test_the_swarm_robots_plan_passes_a_gap_its_hard_disc_closed() -> None:
+    # two boxes 0.27 m apart (four of its body widths) either side of the way to the goal;
+    # its two angled sensors read one each. The hard disc of the footprint's radius plus a
+    # whole margin closes the gap between the two hits and sends the robot round; with the
+    # clearance cost it keeps half the margin there and goes straight on
+    swarm = get_profile("swarm")
+    gap = World(4.0, np.array([[1.8, 1.5, 2.0, 1.865], [1.8, 2.135, 2.0, 2.5]]))
+    pose = np.array([1.7, 2.0, 0.0])
+    readings = sensor_readings(pose[None], swarm, gap)[0]
+    assert np.isfinite(readings[[0, 2]]).all() and np.isinf(readings[1])
+    paths = {}
+    for cost in (None, 0.0):
+        guide = ScanGuide(4.0, scan_guide_config(swarm, clearance_cost=cost))
+        guide.read(pose, readings, (3.0, 2.0), swarm)
+        paths[cost] = guide.guide.path
+    assert paths[None] is not None and np.allclose(paths[None], [[1.7, 2.0], [3.0, 2.0]])
+    assert paths[0.0] is not None and np.abs(paths[0.0][:, 1] - 2.0).max() > 0.2
+    # the UGV keeps its hard disc (its mazes lost with the cost on the validation split)
+    assert scan_guide_config(UGV).clearance_cost == 0.0
+    assert scan_guide_config(swarm).hard_inflation == pytest.approx(1.5 * swarm.half_diagonal)

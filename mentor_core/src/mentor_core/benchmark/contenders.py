@@ -79,13 +79,18 @@ class Contender:
         return None if self.make_goals is None else self.make_goals(scenarios, self.profile)
 
 
-def on_scan_map(contender: Contender, lookahead: float | None = None) -> Contender:
+def on_scan_map(
+    contender: Contender, lookahead: float | None = None, clearance_cost: float | None = None,
+    least_margin: float | None = None,
+) -> Contender:  # fmt: skip
     """``contender`` steering to the carrot of a plan on the map of what its own sensors have
     read (:func:`mentor_core.navigation.scan_map.scan_guided_goals`, unknown space free),
     named ``mapped-<name>``: memory of where the obstacles are, with nothing of the world
-    known beforehand. ``lookahead`` (m): the carrot's distance along the plan (default
+    known beforehand. ``lookahead`` (m): the carrot's distance along the plan;
+    ``clearance_cost`` and ``least_margin`` (m): the plan's clearance cost (each default
     :func:`~mentor_core.navigation.scan_map.scan_guide_config`'s)."""
-    config = scan_guide_config(contender.profile, lookahead)
+    config = scan_guide_config(contender.profile, lookahead, least_margin=least_margin,
+                               clearance_cost=clearance_cost)  # fmt: skip
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> InputGoals:
         return scan_guided_goals(scenarios, profile, config)[0]
@@ -139,11 +144,13 @@ def behind_collision_guard(contender: Contender) -> Contender:
 def as_deployed(
     contender: Contender, lookahead: float | None = None, turn_gain: float | None = None,
     view_margin: float | None = None, control_period: float | None = None,
+    clearance_cost: float | None = None, least_margin: float | None = None,
 ) -> Contender:  # fmt: skip
     """``contender`` (an evolved planner) as the shipped planners are deployed and scored
     (``benchmarks/RESULTS.md``, "Where it stands"): deciding every ``control_period`` s
     (default its robot's: :func:`~mentor_core.runtime.planner.deployed_control_period`) on
-    its scan map (:func:`on_scan_map`, ``lookahead``), behind the collision guard and a
+    its scan map (:func:`on_scan_map`, ``lookahead``, ``clearance_cost``, ``least_margin``),
+    behind the collision guard and a
     rotation shim of :data:`DEPLOYED_SHIM_DEG`, with ``turn_gain`` on its network's turn
     (default its robot's: :func:`~mentor_core.runtime.planner.deployed_turn_gain`) and a
     view corridor of ``view_margin`` (default its robot's, if any:
@@ -158,7 +165,7 @@ def as_deployed(
     split = with_control_period(contender, control_period)
     gained = with_view_margin(with_turn_gain(split, gain), margin)
     shimmed = behind_rotation_shim(gained, math.radians(DEPLOYED_SHIM_DEG))
-    return on_scan_map(behind_collision_guard(shimmed), lookahead)
+    return on_scan_map(behind_collision_guard(shimmed), lookahead, clearance_cost, least_margin)
 
 
 #: the hand-written planners: name -> (kind, policy maker)

@@ -108,7 +108,8 @@ def _contender(result: ContenderResult) -> dict[str, Any]:
         # the scan map's guide (m), for planners on one
         **({} if c.guide is None else {"scan_map": {
             "lookahead": c.guide.lookahead, "replan_distance": c.guide.replan_distance,
-            "margin": c.guide.margin, "resolution": c.guide.resolution}}),
+            "margin": c.guide.margin, "least_margin": c.guide.least_margin,
+            "clearance_cost": c.guide.clearance_cost, "resolution": c.guide.resolution}}),
         "seconds": result.seconds,
         "scores": {limit: {group: {k: _number(v) for k, v in row.items()}
                            for group, row in table.items()}

@@ -13,6 +13,7 @@ import sys
 from typing import NoReturn
 
 from mentor_core.errors import MentorError
+from mentor_core.sim.robots import RobotProfile
 
 
 class Parser(argparse.ArgumentParser):
@@ -96,6 +97,33 @@ def control_period_value(period: float | None) -> float | None:
     if period is not None and not (math.isfinite(period) and period > 0.0):
         raise MentorError(f"--control-period must be a positive number of seconds, got {period}")
     return period
+
+
+def add_clearance_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--clearance-cost W`` and ``--least-margin M``: the plan on the scan map's clearance
+    cost (``navigation.scan_map.scan_guide_config``)."""
+    parser.add_argument("--clearance-cost", type=float, metavar="W",
+                        help="with --scan-map or --deployed: the weight of the plan's cost for "
+                             "keeping less than its margin (a footprint radius) clear, >= 0; "
+                             "0: the margin is a hard disc (default: the robot's, 1 for the "
+                             "Swarm-Robot, 0 for the UGV)")
+    parser.add_argument("--least-margin", type=float, metavar="M",
+                        help="with --scan-map or --deployed and a clearance cost: the least "
+                             "margin the plan keeps, m (default half a footprint radius)")
+
+
+def clearance_values(
+    cost: float | None, least: float | None, robot: RobotProfile
+) -> dict[str, float | None]:
+    """``--clearance-cost`` and ``--least-margin`` as ``scan_guide_config``'s keywords (None:
+    the robot's); MentorError for a negative cost or a least margin outside ``[0, robot's
+    footprint radius]`` (the plan's whole margin)."""
+    if cost is not None and not (math.isfinite(cost) and cost >= 0.0):
+        raise MentorError(f"--clearance-cost must be a number >= 0, got {cost}")
+    if least is not None and not (math.isfinite(least) and 0.0 <= least <= robot.half_diagonal):
+        raise MentorError(f"--least-margin must be in [0, {robot.half_diagonal:g}] m (the "
+                          f"plan's whole margin, a footprint radius), got {least}")  # fmt: skip
+    return {"clearance_cost": cost, "least_margin": least}
 
 
 def check_deployed(args: argparse.Namespace) -> None:

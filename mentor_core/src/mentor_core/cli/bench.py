@@ -55,7 +55,9 @@ from mentor_core.benchmark.suite import (
     shipped_limits,
 )
 from mentor_core.cli.arguments import (
+    add_clearance_arguments,
     check_deployed,
+    clearance_values,
     control_period_value,
     rotation_shim_threshold,
     turn_gain_value,
@@ -99,6 +101,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--lookahead", type=float, metavar="M",
                    help="with --scan-map or --deployed: the carrot's distance along the "
                         "plan, m (default 1.5 goal radii)")
+    add_clearance_arguments(p)
     p.add_argument("--rotation-shim", type=float, metavar="DEG",
                    help="also run each genome behind a rotation shim of this threshold "
                         "(degrees; Nav2's default 45), as shim-<label>")  # fmt: skip
@@ -177,15 +180,17 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
                  for n in names]  # fmt: skip
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         raise MentorError("--lookahead must be positive (m)")
-    if args.lookahead is not None and not (args.scan_map or args.deployed):
-        raise MentorError("--lookahead: only with --scan-map or --deployed")
+    for flag in ("lookahead", "clearance_cost", "least_margin"):
+        if getattr(args, flag) is not None and not (args.scan_map or args.deployed):
+            raise MentorError(f"--{flag.replace('_', '-')}: only with --scan-map or --deployed")
+    plan = clearance_values(args.clearance_cost, args.least_margin, robot)
     check_deployed(args)
     gain = None if args.turn_gain is None else turn_gain_value(args.turn_gain)
     margin = view_margin_value(args.view_margin)
     period = control_period_value(args.control_period)
     if args.deployed:  # its robot's period, gain and corridor unless given
-        chosen = [as_deployed(c, args.lookahead, gain, margin, period) for c in genomes]
-        chosen += _variants(baselines, True, True, args.lookahead)
+        chosen = [as_deployed(c, args.lookahead, gain, margin, period, **plan) for c in genomes]
+        chosen += _variants(baselines, True, True, **plan, lookahead=args.lookahead)
     else:
         genomes = [with_control_period(c, period) for c in genomes]
         if gain is not None and gain != 1.0:
@@ -195,20 +200,20 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         if shim is not None:
             genomes += [behind_rotation_shim(c, shim) for c in genomes]
         chosen = _variants(genomes + baselines, args.collision_guard, args.scan_map,
-                           args.lookahead)  # fmt: skip
+                           **plan, lookahead=args.lookahead)  # fmt: skip
     return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
 
 
 def _variants(
-    contenders: list[Contender], guard: bool, scan_map: bool, lookahead: float | None
+    contenders: list[Contender], guard: bool, scan_map: bool, **plan: float | None
 ) -> list[Contender]:
     """``contenders``, then each behind the collision guard (``guard``), then each of those on
-    its scan map (``scan_map``), in that order."""
+    its scan map (``scan_map``; ``plan``: :func:`on_scan_map`'s keywords), in that order."""
     chosen = list(contenders)
     if guard:
         chosen += [behind_collision_guard(c) for c in chosen]
     if scan_map:
-        chosen += [on_scan_map(c, lookahead) for c in chosen]
+        chosen += [on_scan_map(c, **plan) for c in chosen]
     return chosen
 
 

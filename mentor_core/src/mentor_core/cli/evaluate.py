@@ -56,7 +56,9 @@ import numpy as np
 from mentor_core.atomic import write_json_atomic
 from mentor_core.cli.arguments import (
     Parser,
+    add_clearance_arguments,
     check_deployed,
+    clearance_values,
     control_period_value,
     count,
     duration,
@@ -298,6 +300,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="m along the path the network steers to (default: 2 goal radii along a global "
              "plan, 1.5 on the scan map)",
     )
+    add_clearance_arguments(p)
     p.add_argument(
         "--rotation-shim",
         type=float,
@@ -401,6 +404,10 @@ def main(argv: list[str] | None = None) -> int:
         period = control_period_value(args.control_period)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
+        if (args.clearance_cost, args.least_margin) != (None, None) and not args.scan_map:
+            raise MentorError("--clearance-cost, --least-margin: only with --scan-map or "
+                              "--deployed")  # fmt: skip
+        plan = clearance_values(args.clearance_cost, args.least_margin, profile)
         if args.deployed:  # the robot's gain and corridor unless given
             if args.turn_gain is None:
                 gain = deployed_turn_gain(profile)
@@ -428,7 +435,7 @@ def main(argv: list[str] | None = None) -> int:
                 planner = with_planner(planner, turn_gain=gain, source=path)
             planner = set_view_margin(planner, margin, path)
             guide = guide_config(planner, lookahead=args.lookahead)
-            mapped = scan_guide_config(planner, lookahead=args.lookahead)
+            mapped = scan_guide_config(planner, lookahead=args.lookahead, **plan)
             goals = [sc.goal for sc in chosen]
             for mode in modes:
                 aims = None

@@ -21,6 +21,22 @@ A start or goal whose cell is not traversable (a robot close to a wall, a goal b
 is moved to the nearest traversable cell within ``tolerance``; farther, or with no path
 between them, there is no plan (None). Unknown cells are free with ``allow_unknown`` (Nav2's
 NavFn default), obstacles otherwise.
+
+A clearance cost (``preferred > radius``; Nav2's inflation layer, which makes cells near an
+obstacle costly rather than forbidden): the disc of ``radius`` is all a cell must give, and
+a step onto cells that give less than ``preferred`` costs more. A cell whose square keeps
+``c = clearance - sqrt(2) r`` from every obstacle has the penalty
+
+    q = clip((preferred - c) / (preferred - radius), 0, 1),
+
+and a step of length ``l`` between cells of penalties ``q_a, q_b`` weighs
+``l (1 + w (q_a + q_b) / 2)`` (``w`` = ``clearance_cost``). So the plan keeps ``preferred``
+clear where that costs little and takes a narrower gap where the way round is long: the
+hard disc of ``preferred`` alone closes every gap narrower than ``2 preferred``. Pulled
+straight (step 3), a segment replaces the points it skips only where it costs no more than
+they do, its length in each cell it crosses weighed by that cell's ``1 + w q``
+(Theta*'s test with costs): the shortcut does not cut nearer an obstacle than the search
+chose to.
 """
 
 from __future__ import annotations
@@ -51,6 +67,9 @@ class GridPlanner:
         lethal: cells at or above this value are obstacles.
         tolerance: m, how far a start or goal may be moved onto a traversable cell (None:
             ``radius + 2 r``).
+        preferred: m, the clearance the plan keeps where it can, at least ``radius`` (None,
+            or no ``clearance_cost``: ``radius``, no cost).
+        clearance_cost: ``w`` of the clearance cost (module docstring), >= 0.
     """
 
     def __init__(
@@ -61,11 +80,23 @@ class GridPlanner:
         allow_unknown: bool = True,
         lethal: int = LETHAL,
         tolerance: float | None = None,
+        preferred: float | None = None,
+        clearance_cost: float = 0.0,
     ) -> None:
         if not (math.isfinite(radius) and radius >= 0.0):
             raise ValueError(f"radius must be a finite number >= 0, got {radius}")
+        if preferred is not None and not (math.isfinite(preferred) and preferred >= radius):
+            raise ValueError(f"preferred must be a finite number >= radius ({radius}), "
+                             f"got {preferred}")  # fmt: skip
+        if not (math.isfinite(clearance_cost) and clearance_cost >= 0.0):
+            raise ValueError(f"clearance_cost must be a finite number >= 0, got {clearance_cost}")
         self.grid = grid
         self.radius = float(radius)
+        #: the clearance the plan keeps where it can (m; ``radius``: no clearance cost)
+        self.preferred = (
+            self.radius if preferred is None or clearance_cost == 0.0 else float(preferred)
+        )
+        self.clearance_cost = float(clearance_cost) if self.preferred > self.radius else 0.0
         r = grid.resolution
         self.tolerance = self.radius + 2.0 * r if tolerance is None else float(tolerance)
         blocked = np.pad(grid.obstacles(lethal, not allow_unknown), 1, constant_values=True)
@@ -73,11 +104,17 @@ class GridPlanner:
         self.clearance: FloatArray = ndimage.distance_transform_edt(~blocked)[1:-1, 1:-1] * r
         #: (height, width): cells a disc of ``radius`` may stand on anywhere
         self.traversable: BoolArray = self.free_for(self.radius)
-        self._traversable_values = self.traversable.astype(np.float64)  # 1 / 0, for _sight
-        x0, y0, yaw = grid.origin  # OccupancyGrid.to_local's terms, for _sight
+        self._traversable_values = self.traversable.astype(np.float64)  # 1 / 0, for _along
+        x0, y0, yaw = grid.origin  # OccupancyGrid.to_local's terms, for _along
         self._frame = (float(x0), float(y0), math.cos(yaw), math.sin(yaw), grid.resolution)
         self._node = np.full(self.traversable.shape, -1, dtype=np.int64)
         self._node[self.traversable] = np.arange(int(self.traversable.sum()))
+        self._penalty = np.zeros(self.traversable.shape)  # q of the module docstring
+        if self.clearance_cost > 0.0:
+            kept = self.clearance - _SQRT2 * r  # what each cell's square keeps clear
+            span = self.preferred - self.radius
+            self._penalty = np.clip((self.preferred - kept) / span, 0.0, 1.0)
+        self._cell_cost = 1.0 + self.clearance_cost * self._penalty
         self._graph = self._build_graph()
         # nearest traversable cell of every cell (for moving a start or goal onto one)
         if self.traversable.any():
@@ -97,11 +134,13 @@ class GridPlanner:
         rows: list[NDArray[np.int64]] = []
         cols: list[NDArray[np.int64]] = []
         weights: list[FloatArray] = []
+        penalty = self._penalty
 
         def link(a: tuple[slice, slice], b: tuple[slice, slice], ok: BoolArray, w: float) -> None:
             rows.append(node[a][ok])
             cols.append(node[b][ok])
-            weights.append(np.full(int(ok.sum()), w))
+            extra = self.clearance_cost * (penalty[a][ok] + penalty[b][ok]) / 2.0
+            weights.append(w * (1.0 + extra))
 
         whole, head, tail = slice(None), slice(None, -1), slice(1, None)
         link((whole, head), (whole, tail), t[:, :-1] & t[:, 1:], r)  # east
@@ -157,12 +196,24 @@ class GridPlanner:
         return self.shortcut(np.concatenate([*ends, points, *tail]))
 
     def shortcut(self, points: FloatArray) -> FloatArray:
-        """The path pulled straight (module docstring, step 3)."""
+        """The path pulled straight (module docstring, step 3); with a clearance cost, a
+        segment replaces the points it skips only where it costs no more than they do
+        (:meth:`line_cost`), so it does not cut nearer an obstacle than the search chose."""
+        costly = self.clearance_cost > 0.0
+        if costly:
+            legs = [self.line_cost(points[k], points[k + 1]) for k in range(len(points) - 1)]
+            along = np.concatenate([[0.0], np.cumsum(legs)])
         keep = [0]
         i, last = 0, len(points) - 1
         while i < last:
             j = i + 1
-            while j < last and self.visible(points[i], points[j + 1]):
+            while j < last:
+                if costly:
+                    bar = (along[j + 1] - along[i]) * (1.0 + 1e-9)
+                    if not self.line_cost(points[i], points[j + 1]) <= bar:
+                        break
+                elif not self.visible(points[i], points[j + 1]):
+                    break
                 j += 1
             keep.append(j)
             i = j
@@ -171,14 +222,12 @@ class GridPlanner:
     def visible(self, a: ArrayLike, b: ArrayLike, radius: float | None = None) -> bool:
         """Whether a disc of ``radius`` m (None: the planner's) may travel the segment
         ``a -> b``: every cell it crosses is free for it (:meth:`free_for`)."""
-        if _sight_numba is not None:  # the same cells and tests, compiled (a scan map's hot spot)
+        if _along_numba is not None:  # the same cells and tests, compiled (a scan map's hot spot)
             if radius is None:
                 values, need = self._traversable_values, 0.5
             else:
                 values, need = self.clearance, radius + _SQRT2 * self.grid.resolution
-            pa, pb = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-            return bool(_sight_numba(float(pa[0]), float(pa[1]), float(pb[0]), float(pb[1]),
-                                     *self._frame, values, need))  # fmt: skip
+            return math.isfinite(self._along(a, b, values, need, False))
         rows, cols = self.crossed_cells(a, b)
         h, w = self.traversable.shape
         if rows.min() < 0 or cols.min() < 0 or rows.max() >= h or cols.max() >= w:
@@ -187,6 +236,19 @@ class GridPlanner:
             return bool(self.traversable[rows, cols].all())
         need = radius + _SQRT2 * self.grid.resolution
         return bool((self.clearance[rows, cols] >= need).all())
+
+    def line_cost(self, a: ArrayLike, b: ArrayLike) -> float:
+        """The search's cost of the segment ``a -> b`` (m): its length in each cell it
+        crosses times that cell's ``1 + w q`` (module docstring); inf where it crosses a cell
+        that is not traversable or leaves the grid."""
+        return self._along(a, b, self._traversable_values, 0.5, True)
+
+    def _along(self, a: ArrayLike, b: ArrayLike, values: FloatArray, need: float,
+               weighted: bool) -> float:  # fmt: skip
+        pa, pb = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+        kernel = _along_numba or _along
+        return float(kernel(float(pa[0]), float(pa[1]), float(pb[0]), float(pb[1]),
+                            *self._frame, values, need, self._cell_cost, weighted))  # fmt: skip
 
     def crossed_cells(self, a: ArrayLike, b: ArrayLike) -> tuple[NDArray[np.int64], ...]:
         """``(rows, cols)`` of every cell whose interior the segment ``a -> b`` enters: the
@@ -205,14 +267,15 @@ class GridPlanner:
         return cells[:, 1], cells[:, 0]
 
 
-def _sight(
+def _along(
     ax: float, ay: float, bx: float, by: float, x0: float, y0: float, c: float, s: float,
-    r: float, values: FloatArray, need: float,
-) -> bool:  # fmt: skip
-    """:meth:`GridPlanner.visible` of the segment ``a -> b`` (``map``) on a grid of origin
-    ``(x0, y0)``, heading ``(cos, sin) = (c, s)`` and cells of ``r`` m: every cell of
+    r: float, values: FloatArray, need: float, costs: FloatArray, weighted: bool,
+) -> float:  # fmt: skip
+    """The segment ``a -> b`` (``map``) on a grid of origin ``(x0, y0)``, heading ``(cos,
+    sin) = (c, s)`` and cells of ``r`` m: inf unless every cell of
     :meth:`GridPlanner.crossed_cells` (the same arithmetic) lies on the grid and holds a
-    value of at least ``need``."""
+    value of at least ``need``; else its length (m), each cell's share times ``costs`` there
+    when ``weighted``."""
     px, py = (c * (ax - x0) + s * (ay - y0)) / r, (-s * (ax - x0) + c * (ay - y0)) / r
     qx, qy = (c * (bx - x0) + s * (by - y0)) / r, (-s * (bx - x0) + c * (by - y0)) / r
     p, q = (px, py), (qx, qy)
@@ -231,21 +294,24 @@ def _sight(
             n += 1
     t = np.unique(np.minimum(np.maximum(ts, 0.0), 1.0))
     h, w = values.shape
+    length = math.hypot(d[0], d[1]) * r
+    total = 0.0
     for i in range(len(t) - 1):
         m = (t[i] + t[i + 1]) / 2.0
         col, row = math.floor(px + m * d[0]), math.floor(py + m * d[1])
         if row < 0 or col < 0 or row >= h or col >= w or not values[row, col] >= need:
-            return False
-    return True
+            return math.inf
+        total += (t[i + 1] - t[i]) * length * (costs[row, col] if weighted else 1.0)
+    return total
 
 
-_sight_numba: Callable[..., bool] | None
+_along_numba: Callable[..., float] | None
 try:
     from numba import njit
 
-    _sight_numba = njit(cache=True)(_sight)
+    _along_numba = njit(cache=True)(_along)
 except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays the fallback
-    _sight_numba = None
+    _along_numba = None
 
 
 def plan_path(
@@ -256,7 +322,10 @@ def plan_path(
     *,
     allow_unknown: bool = True,
     tolerance: float | None = None,
+    preferred: float | None = None,
+    clearance_cost: float = 0.0,
 ) -> FloatArray | None:
     """One path with a fresh :class:`GridPlanner` (see there); None when there is none."""
-    planner = GridPlanner(grid, radius, allow_unknown=allow_unknown, tolerance=tolerance)
+    planner = GridPlanner(grid, radius, allow_unknown=allow_unknown, tolerance=tolerance,
+                          preferred=preferred, clearance_cost=clearance_cost)  # fmt: skip
     return planner.plan(start, goal)

@@ -53,11 +53,16 @@ class GuideConfig:
         lookahead: distance of the carrot along the path past the robot's progress.
         replan_distance: plan again when the robot is farther than this from its path point.
         radius: the footprint's circumscribed radius (``RobotProfile.half_diagonal``).
-        margin: added to ``radius`` for planning (the planner's inflation is their sum).
+        margin: added to ``radius`` for planning (the planner's inflation is their sum; with
+            a clearance cost, what the plan keeps where it can).
         resolution: cell side used when a world is rasterised for planning.
         allow_unknown: unknown map cells are free (True, Nav2's default) or obstacles.
         tolerance: how far a start or goal may move onto a traversable cell (None: the
             planner's default).
+        least_margin: the least margin (added to ``radius``) the plan may keep, at the
+            clearance cost, where keeping ``margin`` means a long way round (None:
+            ``margin``, a hard disc; :mod:`~mentor_core.navigation.grid_planner`).
+        clearance_cost: the weight of that cost (the planner's ``clearance_cost``).
     """
 
     lookahead: float
@@ -67,6 +72,8 @@ class GuideConfig:
     resolution: float
     allow_unknown: bool = True
     tolerance: float | None = None
+    least_margin: float | None = None
+    clearance_cost: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("lookahead", "replan_distance", "resolution"):
@@ -77,11 +84,28 @@ class GuideConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f"{name} must be a number >= 0 (m), got {value}")
+        if not (math.isfinite(self.clearance_cost) and self.clearance_cost >= 0.0):
+            raise ValueError(f"clearance_cost must be a number >= 0, got {self.clearance_cost}")
+        least = self.least_margin
+        if least is not None and not (math.isfinite(least) and 0.0 <= least <= self.margin):
+            raise ValueError(f"least_margin must be a number in [0, margin] (m), got {least}")
 
     @property
     def inflation(self) -> float:
-        """The planner's disc radius (m): ``radius + margin``."""
+        """The planner's preferred disc radius (m): ``radius + margin``."""
         return self.radius + self.margin
+
+    @property
+    def hard_inflation(self) -> float:
+        """The disc the plan must keep (m): ``radius + least_margin`` (``inflation`` without
+        a clearance cost)."""
+        return self.radius + (self.margin if self.least_margin is None else self.least_margin)
+
+    def planner(self, grid: OccupancyGrid) -> GridPlanner:
+        """A :class:`GridPlanner` on ``grid`` with these settings."""
+        return GridPlanner(grid, self.hard_inflation, allow_unknown=self.allow_unknown,
+                           tolerance=self.tolerance, preferred=self.inflation,
+                           clearance_cost=self.clearance_cost)  # fmt: skip
 
 
 def guide_config(
@@ -92,11 +116,14 @@ def guide_config(
     margin: float | None = None,
     resolution: float | None = None,
     allow_unknown: bool = True,
+    least_margin: float | None = None,
+    clearance_cost: float = 0.0,
 ) -> GuideConfig:
     """A robot's defaults, each replaced where given: ``lookahead`` twice the goal radius,
     ``replan_distance`` the lookahead, ``margin`` the footprint radius (the planner keeps a
     disc twice the body's clear: room for the network's wobble), ``resolution`` a
-    quarter of the footprint radius rounded down to a millimetre, at most 0.05 m."""
+    quarter of the footprint radius rounded down to a millimetre, at most 0.05 m; no
+    clearance cost (``least_margin``, ``clearance_cost``: :class:`GuideConfig`)."""
     body = profile.half_diagonal
     ahead = 2.0 * profile.goal_radius if lookahead is None else lookahead
     cell = min(0.05, math.floor(body / 4.0 * 1000.0) / 1000.0)
@@ -107,6 +134,8 @@ def guide_config(
         margin=body if margin is None else margin,
         resolution=cell if resolution is None else resolution,
         allow_unknown=allow_unknown,
+        least_margin=least_margin,
+        clearance_cost=clearance_cost,
     )
 
 
@@ -134,10 +163,7 @@ class PathGuide:
 
     def set_map(self, grid: OccupancyGrid) -> None:
         """Plan on ``grid`` from now on; a planned path is planned again at the next target."""
-        c = self.config
-        self.planner = GridPlanner(
-            grid, c.inflation, allow_unknown=c.allow_unknown, tolerance=c.tolerance
-        )
+        self.planner = self.config.planner(grid)
         self._failed = None
         if not self._given:
             self._set(None)
@@ -200,7 +226,8 @@ class PathGuide:
 
     def _in_sight(self, here: XY, s: float, carrot: XY) -> XY:
         """The farthest of the carrot and the points before it (eighths of the lookahead)
-        that the planner's disc can reach in a straight line, else the body's circle (a robot
+        that the planner's disc (with a clearance cost: its preferred disc first, then the
+        disc it must keep) can reach in a straight line, else the body's circle (a robot
         closer to a wall than the planner's disc); the carrot if neither can."""
         if self.planner is None:
             return carrot
@@ -209,7 +236,10 @@ class PathGuide:
             point_at(self.path, s + self.config.lookahead * k / _SIGHT_STEPS, self._lengths)
             for k in range(_SIGHT_STEPS, 0, -1)
         ]
-        for radius in (None, self.config.radius):
+        radii: tuple[float | None, ...] = (None, self.config.radius)
+        if self.planner.preferred > self.planner.radius:
+            radii = (self.planner.preferred, *radii)
+        for radius in radii:
             for point in points:
                 if self.planner.visible(here, point, radius):
                     return point
@@ -239,10 +269,5 @@ def guided_goals(
 def world_guides(world: World, config: GuideConfig, n: int) -> list[PathGuide]:
     """``n`` guides planning on ``world`` rasterised at ``config.resolution`` (one planner,
     shared), one per robot or scenario."""
-    planner = GridPlanner(
-        world_grid(world, config.resolution),
-        config.inflation,
-        allow_unknown=config.allow_unknown,
-        tolerance=config.tolerance,
-    )
+    planner = config.planner(world_grid(world, config.resolution))
     return [PathGuide(config, planner) for _ in range(n)]
