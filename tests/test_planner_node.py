@@ -448,6 +448,17 @@ def test_the_scan_maps_cell_is_the_profiles_unless_given(graph: Graph, cell: flo
     assert guide.map.hits.shape == (round(4.0 / want),) * 2
 
 
+@pytest.mark.parametrize(("cost", "want"), [(-1.0, 1.0), (0.0, 0.0), (2.0, 2.0)])
+def test_the_scan_map_plans_clearance_cost_is_the_robots_unless_given(
+    graph: Graph, cost: float, want: float
+) -> None:
+    planner = _planner(graph, scan_map=True, scan_map_size=4.0, scan_map_clearance_cost=cost)
+    guide = planner.global_plan.planner.scan  # type: ignore[union-attr]
+    assert guide.guide.config.clearance_cost == want  # the Swarm-Robot's: 1
+    assert guide.guide.planner is not None
+    assert guide.guide.planner.clearance_cost == want
+
+
 @pytest.mark.parametrize("keep", [False, True])
 def test_a_kept_scan_map_lasts_across_goals_until_an_episode_starts(
     graph: Graph, keep: bool

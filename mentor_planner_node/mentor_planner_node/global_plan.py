@@ -109,8 +109,10 @@ class GlobalPlan:
             self._keep_map = bool(values["scan_map_keep"])
             self._map_pub = node.create_publisher(OccupancyGridMsg, "scan_map", QOS_MAP)
             self._map_sent: int | None = None  # node clock (ns) of the last publication
+            cost = float(values["scan_map_clearance_cost"])
             self._config = scan_guide_config(planner.profile, float(values["lookahead"]) or None,
-                                             float(values["scan_map_resolution"]) or None)
+                                             float(values["scan_map_resolution"]) or None,
+                                             clearance_cost=None if cost < 0.0 else cost)
             size = float(values["scan_map_size"])
             origin = [float(v) for v in values["scan_map_origin"]]
             if len(origin) != 2 or not all(math.isfinite(v) for v in origin):
@@ -291,6 +293,14 @@ def attach(
                 _descriptor("m, the scan map's cell (0: the profile's, a quarter of the "
                             "footprint radius, at least 2.5 cm); coarser cells plan faster",
                             low=0.0),
+            ),
+            (
+                "scan_map_clearance_cost",
+                -1.0,
+                _descriptor("weight of the scan map plan's cost for keeping less than its "
+                            "margin (a footprint radius) clear, down to half of it; 0: the "
+                            "margin is a hard disc (-1: the robot's, 1 for the Swarm-Robot, "
+                            "0 for the UGV)", low=-1.0),
             ),
             (
                 "scan_map_origin",
