@@ -124,14 +124,25 @@ def test_the_compiled_line_of_sight_is_the_crossed_cells_test(
     for origin in ((0.0, 0.0, 0.0), (1.3, -2.1, 0.6)):
         grid = world_grid(world, 0.1)
         planner = GridPlanner(OccupancyGrid(0.1, origin, grid.data), 0.2)
-        seen = {}
+        costly = GridPlanner(OccupancyGrid(0.1, origin, grid.data), 0.1, preferred=0.3,
+                             clearance_cost=2.0)  # fmt: skip
+        seen: dict[bool, list[bool]] = {}
+        costs: dict[bool, list[float]] = {}
         for fallback in (False, True):
             if fallback:
                 monkeypatch.setattr(grid_planner, "_along_numba", None)
             seen[fallback] = [planner.visible(s[:2], s[2:], radius)
                               for s in segments for radius in (None, 0.1)]  # fmt: skip
+            costs[fallback] = [costly.line_cost(s[:2], s[2:]) for s in segments]
         assert seen[False] == seen[True]
         assert 0 < sum(seen[True]) < len(seen[True])  # both answers occur
+        np.testing.assert_allclose(costs[False], costs[True], rtol=1e-12)
+        finite = np.isfinite(costs[True])
+        assert 0 < finite.sum() < len(segments)
+        # a segment's cost is at least its length, at most 1 + w times it
+        length = np.hypot(*(segments[finite, 2:] - segments[finite, :2]).T)
+        assert (np.asarray(costs[True])[finite] >= length * (1 - 1e-12)).all()
+        assert (np.asarray(costs[True])[finite] <= 3.0 * length * (1 + 1e-12)).all()
         monkeypatch.undo()
 
 

@@ -227,7 +227,7 @@ class GridPlanner:
                 values, need = self._traversable_values, 0.5
             else:
                 values, need = self.clearance, radius + _SQRT2 * self.grid.resolution
-            return math.isfinite(self._along(a, b, values, need, False))
+            return math.isfinite(self._segment(a, b, values, need, False))
         rows, cols = self.crossed_cells(a, b)
         h, w = self.traversable.shape
         if rows.min() < 0 or cols.min() < 0 or rows.max() >= h or cols.max() >= w:
@@ -241,10 +241,11 @@ class GridPlanner:
         """The search's cost of the segment ``a -> b`` (m): its length in each cell it
         crosses times that cell's ``1 + w q`` (module docstring); inf where it crosses a cell
         that is not traversable or leaves the grid."""
-        return self._along(a, b, self._traversable_values, 0.5, True)
+        return self._segment(a, b, self._traversable_values, 0.5, True)
 
-    def _along(self, a: ArrayLike, b: ArrayLike, values: FloatArray, need: float,
-               weighted: bool) -> float:  # fmt: skip
+    def _segment(self, a: ArrayLike, b: ArrayLike, values: FloatArray, need: float,
+                 weighted: bool) -> float:  # fmt: skip
+        """:func:`_along` on this grid, compiled where numba is there."""
         pa, pb = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
         kernel = _along_numba or _along
         return float(kernel(float(pa[0]), float(pa[1]), float(pb[0]), float(pb[1]),
