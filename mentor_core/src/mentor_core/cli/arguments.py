@@ -13,6 +13,7 @@ import sys
 from typing import NoReturn
 
 from mentor_core.errors import MentorError
+from mentor_core.navigation.scan_map import scan_guide_config
 from mentor_core.sim.robots import RobotProfile
 
 
@@ -112,17 +113,21 @@ def add_clearance_arguments(parser: argparse.ArgumentParser) -> None:
                              "margin the plan keeps, m (default half a footprint radius)")
 
 
-def clearance_values(
-    cost: float | None, least: float | None, robot: RobotProfile
-) -> dict[str, float | None]:
+def clearance_values(args: argparse.Namespace, robot: RobotProfile) -> dict[str, float | None]:
     """``--clearance-cost`` and ``--least-margin`` as ``scan_guide_config``'s keywords (None:
-    the robot's); MentorError for a negative cost or a least margin outside ``[0, robot's
-    footprint radius]`` (the plan's whole margin)."""
+    the robot's); MentorError for either without a scan map (``--scan-map`` or
+    ``--deployed``), a negative cost, or a least margin outside ``[0, the plan's whole
+    margin]`` (its robot's scan-map margin, a footprint radius)."""
+    for flag in ("clearance_cost", "least_margin"):
+        if getattr(args, flag) is not None and not (args.scan_map or args.deployed):
+            raise MentorError(f"--{flag.replace('_', '-')}: only with --scan-map or --deployed")
+    cost, least = args.clearance_cost, args.least_margin
     if cost is not None and not (math.isfinite(cost) and cost >= 0.0):
         raise MentorError(f"--clearance-cost must be a number >= 0, got {cost}")
-    if least is not None and not (math.isfinite(least) and 0.0 <= least <= robot.half_diagonal):
-        raise MentorError(f"--least-margin must be in [0, {robot.half_diagonal:g}] m (the "
-                          f"plan's whole margin, a footprint radius), got {least}")  # fmt: skip
+    whole = scan_guide_config(robot).margin
+    if least is not None and not (math.isfinite(least) and 0.0 <= least <= whole):
+        raise MentorError(f"--least-margin must be in [0, {whole:g}] m (the plan's whole "
+                          f"margin, a footprint radius), got {least}")  # fmt: skip
     return {"clearance_cost": cost, "least_margin": least}
 
 

@@ -180,10 +180,9 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
                  for n in names]  # fmt: skip
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         raise MentorError("--lookahead must be positive (m)")
-    for flag in ("lookahead", "clearance_cost", "least_margin"):
-        if getattr(args, flag) is not None and not (args.scan_map or args.deployed):
-            raise MentorError(f"--{flag.replace('_', '-')}: only with --scan-map or --deployed")
-    plan = clearance_values(args.clearance_cost, args.least_margin, robot)
+    if args.lookahead is not None and not (args.scan_map or args.deployed):
+        raise MentorError("--lookahead: only with --scan-map or --deployed")
+    plan = clearance_values(args, robot)
     check_deployed(args)
     gain = None if args.turn_gain is None else turn_gain_value(args.turn_gain)
     margin = view_margin_value(args.view_margin)

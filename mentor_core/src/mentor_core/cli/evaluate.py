@@ -404,10 +404,7 @@ def main(argv: list[str] | None = None) -> int:
         period = control_period_value(args.control_period)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
-        if (args.clearance_cost, args.least_margin) != (None, None) and not args.scan_map:
-            raise MentorError("--clearance-cost, --least-margin: only with --scan-map or "
-                              "--deployed")  # fmt: skip
-        plan = clearance_values(args.clearance_cost, args.least_margin, profile)
+        plan = clearance_values(args, profile)
         if args.deployed:  # the robot's gain and corridor unless given
             if args.turn_gain is None:
                 gain = deployed_turn_gain(profile)
