@@ -134,13 +134,15 @@ class GridPlanner:
         rows: list[NDArray[np.int64]] = []
         cols: list[NDArray[np.int64]] = []
         weights: list[FloatArray] = []
-        penalty = self._penalty
+        penalty, cost = self._penalty, self.clearance_cost
 
         def link(a: tuple[slice, slice], b: tuple[slice, slice], ok: BoolArray, w: float) -> None:
             rows.append(node[a][ok])
             cols.append(node[b][ok])
-            extra = self.clearance_cost * (penalty[a][ok] + penalty[b][ok]) / 2.0
-            weights.append(w * (1.0 + extra))
+            if cost == 0.0:  # a hard disc: every step weighs its length
+                weights.append(np.full(int(ok.sum()), w))
+            else:
+                weights.append(w * (1.0 + cost * (penalty[a][ok] + penalty[b][ok]) / 2.0))
 
         whole, head, tail = slice(None), slice(None, -1), slice(1, None)
         link((whole, head), (whole, tail), t[:, :-1] & t[:, 1:], r)  # east
