@@ -71,14 +71,15 @@ def test_the_planner_commands_the_trained_speeds_at_half_the_period() -> None:
                                    trained.command(ranges, pose, goal))  # fmt: skip
 
 
-def test_the_shipped_ugv_planners_decide_twice_per_trained_period_when_deployed() -> None:
+def test_the_shipped_planners_decide_twice_per_trained_period_when_deployed() -> None:
     ugv, swarm = get_profile("ugv"), get_profile("swarm")
     assert deployed_control_period(genome_profile(UGV_PLANNER, "ugv")) == 0.25
-    assert deployed_control_period(genome_profile(SWARM_PLANNER, "swarm")) == 1.0
+    assert deployed_control_period(genome_profile(SWARM_PLANNER, "swarm")) == 0.5
     deployed = as_deployed(evolved(UGV_PLANNER, ugv)).profile
     assert deployed.control_period == 0.25 and deployed.step_max == 0.25
     assert deployed.heading_change_max == pytest.approx(math.radians(22.5))
-    assert as_deployed(evolved(SWARM_PLANNER, swarm)).profile.control_period == 1.0
+    deployed = as_deployed(evolved(SWARM_PLANNER, swarm)).profile
+    assert deployed.control_period == 0.5 and deployed.step_max == pytest.approx(0.04)
     again = as_deployed(evolved(UGV_PLANNER, ugv), control_period=0.5).profile
     assert again.control_period == 0.5 and again.step_max == 0.5
 

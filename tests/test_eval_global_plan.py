@@ -152,7 +152,8 @@ def test_deployed_gives_the_swarm_robot_its_turn_gain_and_view_corridor(tmp_path
     # a genome trained without the corridor (the shipped ones read through it as trained)
     genome = ROOT / "bags" / "regression" / "swarm_reference_genome.json"
     common = [str(genome), "--robot", "swarm", "--seed", "3", "--n", "4", "--label", "ref"]
-    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard"]
+    # the deployed period: twice per trained period, as --deployed decides
+    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard", "--control-period", "0.5"]
     layers = {"both": ["--turn-gain", "0.75", "--view-margin", "0.1"],
               "gained": ["--turn-gain", "0.75"], "cornered": ["--view-margin", "0.1"],
               "plain": []}  # fmt: skip

@@ -75,7 +75,7 @@ def test_headline_planners_run_as_the_benchmark_scores_them(robot: str, genome: 
     assert values["view_margin"] == (deployed.view_margin or 0.0)
     assert values["view_margin"] == (0.1 if robot == "swarm" else 0.0)
     assert values["control_period"] == deployed.control_period == (
-        1.0 if robot == "swarm" else 0.25)
+        0.5 if robot == "swarm" else 0.25)
 
 
 def test_a_bad_robot_list_is_refused_in_one_line(tmp_path: Path) -> None:
@@ -202,7 +202,7 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     assert values["view_margin"] == 0.1
     assert ugv["namespace"] == "ugv_0" and ugv["parameters"][0]["turn_gain"] == 1.0
     assert ugv["parameters"][0]["view_margin"] == 0.0
-    assert ugv["parameters"][0]["control_period"] == 0.25 and values["control_period"] == 1.0
+    assert ugv["parameters"][0]["control_period"] == 0.25 and values["control_period"] == 0.5
 
 
 LAYERS = ("control_period", "scan_map", "rotation_shim_deg", "collision_guard", "turn_gain",

@@ -145,8 +145,8 @@ def test_robots_of_both_kinds_share_a_world_through_ros(graph: Graph) -> None:
     assert all(p.decisions > 0 and p.zero_commands == 0 for p in planners)
 
 
-# headline: the UGV's planner decides at half its genome's period, the Swarm-Robot's at its
-# own, so the two run together only in continuous mode
+# headline: each planner decides at half its genome's period, run here in continuous mode as
+# on a robot
 @pytest.mark.parametrize(
     "mode", [[], ["--headline", "--continuous", "--real-time-factor", "10", "--time-limit", "8"]],
     ids=["plain", "headline"],

@@ -17,9 +17,9 @@ on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origi
 odometry frame (``docs/ros.md``, "Global plans"). ``headline:=true`` runs it as
 ``mentor-bench --deployed`` scores the shipped planners: ``scan_map:=true
 rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's decision period, gain on the
-turn and view corridor (``turn_gain:=0.75 view_margin:=0.1`` for the Swarm-Robot at its
-genome's period; for the UGV ``control_period:=0.25``, twice per trained period, ``1`` and
-``0`` (none)); any of the six given as well wins.
+turn and view corridor (twice per trained period: ``control_period:=0.5`` for the
+Swarm-Robot, with ``turn_gain:=0.75 view_margin:=0.1``; for the UGV ``control_period:=0.25``,
+``1`` and ``0`` (none)); any of the six given as well wins.
 """
 
 from __future__ import annotations

@@ -342,8 +342,8 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="run each genome only as deployed: on the map of its own readings behind the "
         "rotation shim (45 deg) and the collision guard, with the robot's decision period, "
-        "gain on the turn and view corridor (UGV: twice per trained period; Swarm-Robot: gain "
-        "0.75 and 0.1 m), without the plain run (not with --scan-map, --rotation-shim or "
+        "gain on the turn and view corridor (twice per trained period; the Swarm-Robot also "
+        "gain 0.75 and 0.1 m), without the plain run (not with --scan-map, --rotation-shim or "
         "--collision-guard; --control-period, --turn-gain and --view-margin replace the "
         "robot's)",
     )
