@@ -126,10 +126,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run each genome only as the shipped planners are deployed: on its "
                         "scan map behind the collision guard and a 45 deg rotation shim, with "
                         "its robot's decision period, gain on the turn and view corridor "
-                        "(twice per trained period; the Swarm-Robot also gain 0.75 and 0.1 "
-                        "m), "
-                        "as mapped-guard-shim-<label>; the baselines plain, guarded, on their "
-                        "scan map and both (not with --scan-map, --rotation-shim or "
+                        "(twice per trained period; the Swarm-Robot also gain 0.75 and "
+                        "0.1 m), as mapped-guard-shim-<label>; the baselines plain, guarded, "
+                        "on their scan map and both (not with --scan-map, --rotation-shim or "
                         "--collision-guard; --control-period, --turn-gain and --view-margin "
                         "replace its robot's)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
