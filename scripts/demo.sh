@@ -32,6 +32,7 @@ echo "== evaluating both best genomes on the unseen environment bags/unseen/swar
   --bag "$ROOT/bags/unseen/swarm" --label single --label dual --scan-map \
   --out "$OUT/eval_unseen.json" --force
 echo "== writing the report" >&2
+# --force: the report of an earlier demo in OUT is replaced
 "$BIN/mentor-report" "$OUT/swarm-single" "$OUT/swarm-dual" --eval "$OUT/eval_unseen.json" \
-  --out "$OUT/report"
+  --out "$OUT/report" --force
 echo "demo: report at $OUT/report/report.md" >&2

@@ -96,7 +96,7 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
     ("args", "message"),
     [
         (["--robot", "ugv", "--families", "caves"], "unknown world family 'caves'"),
-        (["--robot", "ugv", "--pairs-per-family", "0"], "--pairs-per-family must be >= 1"),
+        (["--robot", "ugv", "--pairs-per-family", "0"], "--pairs-per-family must be in 1..100000"),
         (["--robot", "tank"], "unknown robot 'tank'"),
         (["--robot", "ugv", "--baselines", "astar"], "unknown baseline 'astar'"),
         (["missing.json", "--robot", "ugv"], "missing.json"),

@@ -210,7 +210,7 @@ TRAIN_CONFIGS = sorted(CONFIG_DIR.glob("train_*.yaml"))
         ("generations: true\n", "generations", "expected a whole number, got True"),
         ("n_scenarios: 10.7\n", "n_scenarios", "expected a whole number, got 10.7"),
         ("stage2_seed_fraction: .nan\n", "stage2_seed_fraction", "expected a finite number"),
-        ("step_max: yes\n", "step_max", "expected a number, got True"),
+        ("step_max: yes\n", "step_max", "expected a number, got 'yes'"),  # YAML 1.2: text
         ("framework: triple\n", "framework", "must be 'single' or 'dual', got 'triple'"),
         ("evolution:\n  mutation:\n    weight_rate: 1.5\n", "evolution.mutation.weight_rate",
          "must be <= 1.0, got 1.5"),

@@ -59,7 +59,7 @@ def test_a_world_from_a_ros_map(tmp_path: Path, capsys: pytest.CaptureFixture[st
 @pytest.mark.parametrize(
     ("args", "fault"),
     [
-        (["--robot", "ugv", "--map", "{tmp}/missing.yaml"], "missing.yaml: cannot read map"),
+        (["--robot", "ugv", "--map", "{tmp}/missing.yaml"], "missing.yaml: no such file"),
         (["--robot", "ugv", "--map", "{tmp}/bad.yaml"], "bad.yaml: missing key 'image'"),
         (["--robot", "ugv", "--world", "{tmp}/w.yaml", "--seed", "3"], "not with --bag"),
         (["--robot", "ugv"], "give --bag, --world, --map or --seed"),

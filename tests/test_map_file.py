@@ -104,7 +104,7 @@ THRESH = "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
 @pytest.mark.parametrize(
     ("yaml_text", "pgm", "where", "fault"),
     [
-        (None, b"P2 1 1 255 0", "m.yaml", "cannot read map file"),
+        (None, b"P2 1 1 255 0", "m.yaml", "no such file"),
         ("image: [unclosed", b"P2 1 1 255 0", "m.yaml", "not valid YAML"),
         ("- a list", b"P2 1 1 255 0", "m.yaml", "a mapping"),
         (GOOD, b"P2 1 1 255 0", "m.yaml", "missing key 'occupied_thresh'"),

@@ -192,7 +192,7 @@ def test_bad_genome_or_profile_raises_one_line(graph: Graph, tmp_path: Path) -> 
     assert "\n" not in str(err.value)
     with pytest.raises(ConfigError, match="unknown robot 'tank'"):
         _planner(graph, profile="tank")
-    with pytest.raises(ConfigError, match="needs 11 inputs"):
+    with pytest.raises(ConfigError, match="trained for robot 'swarm', not 'ugv'"):
         _planner(graph, profile="ugv")  # a Swarm-Robot genome on a UGV
     with pytest.raises(FileFormatError, match=r"missing\.json"):
         _planner(graph, genome=str(tmp_path / "missing.json"))

@@ -405,8 +405,9 @@ def test_a_genome_trained_with_other_sensors_is_refused(
 def test_the_report_folder_is_checked_before_any_run_is_read(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """--out: never a run directory (nor inside one); a folder of other files only with
-    --force; an earlier report is replaced, its figures no longer drawn removed (issue 17)."""
+    """--out: never a run directory (nor inside one); a folder of files only with --force,
+    an earlier report's included, which is replaced, its figures no longer drawn removed
+    (issues 17, 58)."""
     import mentor_core.report.markdown as markdown
 
     monkeypatch.setattr(markdown, "_png", lambda fig: PNG_MAGIC)  # figures: not the point
@@ -423,15 +424,17 @@ def test_the_report_folder_is_checked_before_any_run_is_read(
     notes.mkdir()
     (notes / "todo.txt").write_text("mine\n")
     assert report_main([str(a), "--out", str(notes)]) == 2
-    assert "holds files but no earlier report; pass --force" in capsys.readouterr().err
+    assert "already exists and is not empty; pass --force" in capsys.readouterr().err
     assert report_main([str(a), "--out", str(notes), "--force"]) == 0
     assert (notes / "report.md").is_file() and (notes / "todo.txt").read_text() == "mine\n"
-    # an earlier report is rewritten in place, without --force
+    # an earlier report is rewritten in place, with --force
     out = tmp_path / "report"
     assert report_main([str(a), str(b), "--out", str(out)]) == 0
     assert any(p.name.startswith("ugv-dual-s1") for p in out.glob("*.png"))
     (out / "mine.png").write_bytes(b"kept")  # not a figure of the report: left alone
-    assert report_main([str(a), "--out", str(out)]) == 0
+    assert report_main([str(a), "--out", str(out)]) == 2
+    assert "pass --force" in capsys.readouterr().err
+    assert report_main([str(a), "--out", str(out), "--force"]) == 0
     assert not any(p.name.startswith("ugv-dual-s1") for p in out.glob("*.png"))
     assert any(p.name.startswith("ugv-single-s0") for p in out.glob("*.png"))
     assert (out / "mine.png").read_bytes() == b"kept"

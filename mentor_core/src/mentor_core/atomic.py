@@ -5,6 +5,8 @@ of :data:`TEMP_NAME`, also that of the ``tempfile.mkstemp`` names written before
 renamed over the target. A process killed inside a write leaves that temporary file behind; the
 owner of a folder removes its files' leftovers with :func:`remove_stale_temps`. Written files
 get the permissions ``open()`` gives (0666 less the umask: 0644 usually), not mkstemp's 0600.
+A write that fails (a full disk, a read-only folder) raises :class:`~mentor_core.errors.WriteFault`
+naming the target and leaves the target as it was.
 """
 
 from __future__ import annotations
@@ -16,6 +18,8 @@ import secrets
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
+
+from mentor_core.errors import WriteFault
 
 # ".<target name>.<8 of [a-z0-9_]>.tmp": ours (token_hex) and mkstemp's (its random names)
 TEMP_NAME = re.compile(r"\.(?P<target>.+)\.[a-z0-9_]{8}\.tmp")
@@ -35,16 +39,22 @@ def _open_temp(target: Path) -> tuple[int, Path]:
 def write_bytes_atomic(path: str | Path, data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file in the same folder and a rename."""
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = _open_temp(target)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = _open_temp(target)
+    except OSError as err:
+        raise WriteFault(target, err) from None
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp, target)
-    except BaseException:
+    except BaseException as err:
         tmp.unlink(missing_ok=True)
+        if isinstance(err, OSError) and not isinstance(err, WriteFault):
+            # a full disk says "[Errno 28] No space left on device" and names no file
+            raise WriteFault(target, err) from None
         raise
 
 

@@ -35,6 +35,18 @@ class FileFormatError(MentorError, ValueError):
         super().__init__(f"{self.path}: {fault}")
 
 
+class WriteFault(MentorError, OSError):
+    """A file could not be written (the disk is full, the folder read-only, ...): one line
+    naming the file, still an OSError with the ``errno`` of the fault."""
+
+    def __init__(self, path: str | Path, err: OSError) -> None:
+        OSError.__init__(self, err.errno, err.strerror or one_line(err), str(path))
+        self.path = str(path)
+
+    def __str__(self) -> str:
+        return f"{self.path}: cannot write ({self.strerror})"
+
+
 def is_version(value: object, expected: int) -> bool:
     """Whether a file's ``version`` field is exactly the integer ``expected`` (JSON ``true``
     equals 1 in Python, but is not a version)."""

@@ -14,11 +14,10 @@ so the results are the same for any number of workers, one included. Workers are
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
 
 from mentor_core.benchmark.contenders import Contender
@@ -32,7 +31,7 @@ from mentor_core.benchmark.runner import (
 from mentor_core.benchmark.scores import Outcomes
 from mentor_core.benchmark.suite import Suite
 from mentor_core.errors import MentorError
-from mentor_core.training.child_processes import die_with_parent, stop_pool
+from mentor_core.training.child_processes import die_with_parent, spawn_pool, stop_pool
 
 #: builds the suite and the contenders, the same in every process
 Setup = Callable[[], tuple[Suite, Sequence[Contender]]]
@@ -55,11 +54,10 @@ def run_parallel(
         raise ValueError(f"workers must be at least 1, got {workers}")
     suite, contenders = setup() if built is None else built
     tasks = [(k, family) for k in range(len(contenders)) for family in suite.families]
-    pool = ProcessPoolExecutor(
-        max_workers=min(workers, len(tasks)) or 1,
-        mp_context=multiprocessing.get_context("spawn"),
-        initializer=_start_worker,
-        initargs=(os.getpid(), setup, len(suite.pairs), [c.name for c in contenders]),
+    pool = spawn_pool(
+        min(workers, len(tasks)) or 1,
+        _start_worker,
+        (os.getpid(), setup, len(suite.pairs), [c.name for c in contenders]),
     )
     try:
         futures: dict[tuple[int, str], Future[tuple[Outcomes, float]]] = {

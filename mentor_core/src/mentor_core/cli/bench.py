@@ -48,6 +48,7 @@ from mentor_core.benchmark.parallel import run_parallel
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import (
     LIMIT_KEYS,
+    MAX_PAIRS_PER_FAMILY,
     SPLITS,
     Suite,
     build_suite,
@@ -55,6 +56,7 @@ from mentor_core.benchmark.suite import (
     shipped_limits,
 )
 from mentor_core.cli.arguments import (
+    Parser,
     add_clearance_arguments,
     check_deployed,
     clearance_values,
@@ -64,6 +66,7 @@ from mentor_core.cli.arguments import (
     view_margin,
     view_margin_value,
 )
+from mentor_core.cli.outputs import check_folder
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.report.head_to_head import baseline_choice, head_to_head_markdown
@@ -77,7 +80,7 @@ LIMIT_SOURCES = ("reference", "shipped")
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of mentor-bench."""
-    p = argparse.ArgumentParser(prog="mentor-bench", description=__doc__.split("\n")[0])
+    p = Parser(prog="mentor-bench", description=__doc__.split("\n")[0])
     p.add_argument("genomes", nargs="*", type=Path, help="genome JSON files (best_genome.json)")
     p.add_argument("--robot", required=True, help="robot profile (ugv, swarm)")
     p.add_argument("--split", default="validation", choices=tuple(SPLITS),
@@ -132,7 +135,11 @@ def build_parser() -> argparse.ArgumentParser:
                         "--collision-guard; --control-period, --turn-gain and --view-margin "
                         "replace its robot's)")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
-    p.add_argument("--out", type=Path, help="write bench.json, bench.md and figures here")
+    p.add_argument("--out", type=Path,
+                   help="write bench.json, bench.md and figures into this new or empty folder")
+    p.add_argument("--force", action="store_true",
+                   help="write into an --out folder that holds files (an earlier benchmark's); "
+                        "never an input's folder or a training run directory")
     p.add_argument("--baselines-chosen-on", type=Path, metavar="BENCH_JSON",
                    help="also hold each planner head to head against the baseline variant "
                         "that was best in each family and column in that run (the "
@@ -146,8 +153,9 @@ def build_parser() -> argparse.ArgumentParser:
 def _setup(args: argparse.Namespace) -> tuple[Suite, list[Contender]]:
     """The suite and the planners the command line names (in every worker the same);
     MentorError for bad arguments (FileFormatError / ConfigError naming a genome file)."""
-    if args.pairs_per_family < 1:
-        raise MentorError(f"--pairs-per-family must be >= 1, got {args.pairs_per_family}")
+    if not 1 <= args.pairs_per_family <= MAX_PAIRS_PER_FAMILY:
+        raise MentorError(f"--pairs-per-family must be in 1..{MAX_PAIRS_PER_FAMILY}, got "
+                          f"{args.pairs_per_family}")  # fmt: skip
     families = None if args.families is None else [
         f.strip() for f in args.families.split(",") if f.strip()]
     robot = get_profile(args.robot)
@@ -200,7 +208,10 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
             genomes += [behind_rotation_shim(c, shim) for c in genomes]
         chosen = _variants(genomes + baselines, args.collision_guard, args.scan_map,
                            **plan, lookahead=args.lookahead)  # fmt: skip
-    return chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
+    chosen = chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
+    if not chosen:
+        raise MentorError("nothing to run: give a genome, a baseline or leave the oracle in")
+    return chosen
 
 
 def _variants(
@@ -296,8 +307,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.workers < 1:
             raise MentorError(f"--workers must be >= 1, got {args.workers}")
-        if args.out is not None and args.out.exists() and not args.out.is_dir():
-            raise MentorError(f"{args.out}: exists and is not a directory")
+        if args.out is not None:
+            inputs = [*args.genomes, *filter(None, [args.baselines_chosen_on])]
+            check_folder("--out", args.out, inputs, args.force)
         began = time.perf_counter()
         suite, contenders = _setup(args)
         chosen = _baseline_choice(args.baselines_chosen_on, args.robot, contenders,

@@ -70,7 +70,7 @@ from mentor_core.cli.arguments import (
     view_margin_value,
 )
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
-from mentor_core.errors import FileFormatError, MentorError
+from mentor_core.errors import FileFormatError, MentorError, one_line
 from mentor_core.files.bags import read_scenario_bag
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.navigation.grid import world_grid
@@ -129,7 +129,11 @@ def load_scenarios(args: argparse.Namespace) -> tuple[RobotProfile, World, list[
             raise FileFormatError(args.map, f"no {args.n} start/goal pairs: {err}") from None
         return profile, world, scenarios, f"{args.map} seed {seed}"
     world = sample_world(profile.test_arena, rng)
-    return profile, world, sample_scenarios(world, profile, args.n, rng), f"seed {seed}"
+    try:
+        scenarios = sample_scenarios(world, profile, args.n, rng)
+    except ValueError as err:
+        raise MentorError(f"--n {args.n}: {one_line(err)}") from None
+    return profile, world, scenarios, f"seed {seed}"
 
 
 def _table(label: str, assessment: Assessment) -> str:

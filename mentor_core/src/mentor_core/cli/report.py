@@ -6,25 +6,25 @@
 
 Writes PNG figures (Pareto front, convergence, niche sizes, performance vs complexity,
 topology, trajectories; with ``--bench`` the benchmark's success per family and example
-trajectories) and ``report.md`` with the numbers into ``--out``: a new or empty folder, or one
-holding an earlier report (replaced: its figures this report does not draw are removed); a
-folder holding other files only with ``--force``, and never a run directory or a folder where a
-report file would replace an input. Checked before any run is read.
+trajectories) and ``report.md`` with the numbers into ``--out``: a new or empty folder, or
+with ``--force`` one holding files (an earlier report is replaced: its figures this report
+does not draw are removed); never a run directory, an input's folder or a folder holding an
+input (``cli.outputs``). Checked before any run is read. A path that is no run directory, and
+a report with nothing in it (every run unfinished), are refused.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Iterable
 from pathlib import Path
 
 import matplotlib
 
 from mentor_core.cli.arguments import Parser, fail
-from mentor_core.cli.outputs import OutputError, exists
+from mentor_core.cli.outputs import check_folder
 from mentor_core.errors import MentorError
-from mentor_core.report.markdown import REPORT_FILE, is_report_dir, write_report
+from mentor_core.report.markdown import write_report
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -49,29 +49,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--out", required=True, type=Path, help="output directory")
     p.add_argument(
-        "--force", action="store_true", help="write into an --out folder that holds other files"
+        "--force",
+        action="store_true",
+        help="write into an --out folder that holds files (an earlier report's, replaced); "
+        "never a run directory or an input's folder",
     )
     return p
-
-
-def check_report_dir(option: str, path: Path, inputs: Iterable[Path], force: bool) -> None:
-    """``path`` may receive a report (``report.md`` and PNG figures): it is no input run
-    directory nor inside one, it holds no input a report file would replace, and unless
-    ``force`` it is new, empty or an earlier report (which the report replaces)."""
-    target = path.resolve()
-    if exists(path) and not path.is_dir():
-        raise OutputError(option, path, "is not a directory")
-    for given in inputs:
-        source = given.resolve()
-        if target == source or source in target.parents:
-            raise OutputError(option, path, f"is inside the input {given}; not writing there")
-        if source.parent == target and (source.name == REPORT_FILE or source.suffix == ".png"):
-            raise OutputError(option, path, f"a report would replace the input {given}")
-    if force or not path.is_dir() or not any(path.iterdir()) or is_report_dir(path):
-        return
-    raise OutputError(
-        option, path, "holds files but no earlier report; pass --force to write into it"
-    )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -82,7 +65,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("give a run directory, --eval or --bench")
     matplotlib.use("Agg")  # no display needed; the report draws on the Agg canvas only
     try:
-        check_report_dir("--out", args.out, [*args.runs, *args.eval, *args.bench], args.force)
+        check_folder("--out", args.out, [*args.runs, *args.eval, *args.bench], args.force)
         report = write_report(args.runs, args.eval, args.out, bench_jsons=args.bench)
     except (MentorError, OSError) as err:
         return fail("mentor-report", err)

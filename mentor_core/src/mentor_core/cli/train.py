@@ -37,6 +37,7 @@ from mentor_core.training.config import (
     with_overrides,
 )
 from mentor_core.training.evaluators import make_evaluator
+from mentor_core.training.memory_bound import check_memory
 from mentor_core.training.progress import GenerationProgress, RefinementLines
 from mentor_core.training.run_directory import open_run
 from mentor_core.training.trainer import make_problem, train
@@ -59,7 +60,7 @@ def resolve_run(
     if name in SHIPPED:
         base = shipped_config(robot, name)
     else:
-        base, seed = load_config_file(Path(name))
+        base, seed = load_config_file(Path(name), robot)
     data = with_overrides(base.to_dict(), overrides)
     data.update(robot=robot, framework=framework)
     source = f"{name} with --set" if overrides else name
@@ -119,14 +120,18 @@ def _stopped(args: argparse.Namespace) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
+    opened = False  # the run directory is ours: a fault from here on leaves a run to resume
     try:
         config, saved_seed = resolve_run(args.robot, args.framework, args.config, args.overrides)
         if args.seed is None:
             args.seed = 0 if saved_seed is None else saved_seed
         source = args.config or "paper"
         problem = make_problem(config, source=source)
+        check_memory(config.evolution.population_size, len(problem.scenarios),
+                     f"{source} with --set" if args.overrides else source)  # fmt: skip
         # the run directory first: a second writer is refused before any worker starts
         with open_run(args.out, resume=args.resume) as run_dir:
+            opened = True
             print(
                 f"mentor-train: {config.robot} {config.framework}-stage, "
                 f"{config.evolution.population_size} genomes x {config.generations} "
@@ -153,10 +158,14 @@ def _run(args: argparse.Namespace) -> int:
                 )
     except KeyboardInterrupt as stop:
         how = "terminated (SIGTERM)" if isinstance(stop, Terminated) else "interrupted"
-        print(f"mentor-train: {how}{_stopped(args)}; continue with --resume --out {args.out}",
-              file=sys.stderr)
+        then = (f"continue with --resume --out {args.out}" if opened
+                else "before the run started; nothing written")  # fmt: skip
+        print(f"mentor-train: {how}{_stopped(args)}; {then}", file=sys.stderr)
         return EXIT_SIGTERM if isinstance(stop, Terminated) else 130
-    except (MentorError, OSError) as err:
+    except OSError as err:  # a full disk, a folder made read-only: the files so far are whole
+        resume = f"; continue the run with --resume --out {args.out}" if opened else ""
+        return fail("mentor-train", f"{err}{resume}")
+    except MentorError as err:
         return fail("mentor-train", err)
     if result.rebuilt:
         names = ", ".join(p.name for p in result.rebuilt)

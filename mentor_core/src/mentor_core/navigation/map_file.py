@@ -40,8 +40,9 @@ import yaml
 from numpy.typing import NDArray
 
 from mentor_core.atomic import write_bytes_atomic, write_text_atomic
-from mentor_core.errors import FileFormatError, is_number, one_line
+from mentor_core.errors import FileFormatError, is_number
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
+from mentor_core.validation import read_yaml
 
 MODES = ("trinary", "scale", "raw")
 SAVE_MODES = ("trinary", "raw")
@@ -56,7 +57,7 @@ def load_map(path: str | Path) -> OccupancyGrid:
     """The occupancy grid of a map YAML and its image; FileFormatError naming the YAML or the
     image and the fault (missing, unreadable, malformed, truncated)."""
     source = Path(path)
-    doc = _read_yaml(source)
+    doc = read_yaml(source)  # YAML 1.2, as map_server's yaml-cpp: resolution: 5e-2 is a number
     try:
         meta = _metadata(doc)
     except ValueError as err:
@@ -69,19 +70,6 @@ def load_map(path: str | Path) -> OccupancyGrid:
     occ = shade if meta["negate"] else 1.0 - shade
     data = _occupancy(occ, shade, meta["mode"], meta["free_thresh"], meta["occupied_thresh"])
     return OccupancyGrid(meta["resolution"], meta["origin"], data[::-1])
-
-
-def _read_yaml(source: Path) -> Any:
-    try:
-        text = source.read_text(encoding="utf-8")
-    except OSError as err:
-        raise FileFormatError(source, f"cannot read map file ({err.strerror})") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(source, "not a text (YAML) file") from None
-    try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        raise FileFormatError(source, f"not valid YAML ({one_line(err)})") from None
 
 
 def _metadata(doc: Any) -> dict[str, Any]:

@@ -13,6 +13,7 @@ from matplotlib.figure import Figure
 
 from mentor_core.atomic import write_bytes_atomic, write_text_atomic
 from mentor_core.benchmark.document import load_bench
+from mentor_core.errors import FileFormatError, MentorError
 from mentor_core.report.bench import bench_markdown
 from mentor_core.report.figures import (
     NICHE_BOUND,
@@ -26,6 +27,7 @@ from mentor_core.report.figures import (
 )
 from mentor_core.report.runs import EvalRun, RunData, is_finished, load_eval, load_run
 from mentor_core.report.tables import _fmt, _md_table, _pct, _spread, genome_tables, run_numbers
+from mentor_core.training.run_directory import is_run_directory
 
 FRAMEWORKS = ("single", "dual")
 #: the first line of every report.md: how a folder is known to hold an earlier report
@@ -97,6 +99,9 @@ def write_report(
     skipped: list[Path] = []
     for d in run_dirs:
         p = Path(d)
+        if p.is_dir() and not is_run_directory(p):
+            raise FileFormatError(p, "not a training run directory (mentor-train --out writes "
+                                     "one)")  # fmt: skip
         if p.is_dir() and not is_finished(p):
             print(f"mentor-report: warning: {p}: unfinished run (no population.json), skipped",
                   file=stream)  # fmt: skip
@@ -105,6 +110,8 @@ def write_report(
         runs.append(load_run(p))
     evals = [load_eval(e) for e in eval_jsons]
     benches = [(Path(b), load_bench(b)) for b in bench_jsons]
+    if not (runs or evals or benches):  # refused before anything is written
+        raise MentorError("nothing to report: every run given is unfinished")
 
     names: dict[int, str] = {}
     taken: set[str] = set()
@@ -277,8 +284,6 @@ def write_report(
         md += ["## Skipped", ""]
         md += [f"- `{p}`: unfinished run (no population.json)" for p in skipped]
         md += [""]
-    if not runs and not evals and not benches:
-        md += ["Nothing to report: no finished run, no evaluation and no benchmark.", ""]
     report = out / REPORT_FILE
     write_text_atomic(report, "\n".join(md))
     for name in sorted(earlier - drawn):

@@ -17,7 +17,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
 from mentor_core.errors import FileFormatError, is_version, one_line
 from mentor_core.evolution.genome import Genome
@@ -30,6 +29,7 @@ from mentor_core.training.run_files import (
     RunPaths,
     record_from_row,
 )
+from mentor_core.validation import read_yaml
 
 
 @dataclass(frozen=True)
@@ -118,12 +118,7 @@ def _check_format(path: Path, data: Any, fmt: str) -> dict[str, Any]:
 
 
 def _read_config(path: Path) -> dict[str, Any]:
-    try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FileFormatError(path, "no such file") from None
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as err:
-        raise FileFormatError(path, f"not valid YAML ({one_line(err)})") from None
+    data = read_yaml(path)
     if not isinstance(data, dict):
         raise FileFormatError(path, "not a mapping")
     for key, kind in (("robot", str), ("framework", str), ("seed", int), ("generations", int)):

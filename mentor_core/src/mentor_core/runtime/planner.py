@@ -66,12 +66,14 @@ from mentor_core.sim.robots import (
     ROBOTS_ENV,
     RobotProfile,
     get_profile,
+    load_profiles,
     sensor_record,
     with_planner,
 )
 from mentor_core.sim.rotation_shim import rotation_shim
 from mentor_core.sim.turn_gain import turn_gain
 from mentor_core.sim.view_corridor import set_view_margin
+from mentor_core.validation import short_repr
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
@@ -93,6 +95,15 @@ def planner_profile(
     (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
     differs from the profile's: such a genome was trained with other sensors.
     """
+    trained_for = metadata.get("robot", profile.name)  # absent in hand-made genomes
+    if trained_for != profile.name:
+        known = sorted(load_profiles())
+        fault = (
+            f"the genome was trained for robot {trained_for!r}, not {profile.name!r}"
+            if trained_for in known
+            else f"{short_repr(trained_for)} is no known robot (known: {', '.join(known)})"
+        )
+        raise ConfigError(fault, key="robot", path=source or None)
     trained = metadata.get("sensors")
     if trained is not None and trained != sensor_record(profile):
         raise ConfigError(

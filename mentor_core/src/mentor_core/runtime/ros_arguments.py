@@ -15,9 +15,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import yaml
-
 from mentor_core.errors import MentorError
+from mentor_core.validation import short_repr, yaml_value
 
 _SCALARS = (str, int, float, bool)
 _FLAGS = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}
@@ -44,9 +43,9 @@ def parameter_fault(argv: Sequence[str]) -> str:
             if not sep:
                 continue
             try:
-                value = yaml.safe_load(text)
-            except yaml.YAMLError:
-                return f"-p {name}: {text!r} is not YAML"
+                value = yaml_value(text)
+            except ValueError as err:
+                return f"-p {name}: {short_repr(text)} is not YAML ({err})"
             if not _is_value(value):
                 kind = "mapping" if isinstance(value, dict) else "nested list"
                 quoted = text.replace("\\", "\\\\").replace('"', '\\"')

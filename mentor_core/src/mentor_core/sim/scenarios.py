@@ -33,6 +33,8 @@ CLEARANCE_FACTOR = 1.25
 # not depend on how many are asked for
 _BATCH = 256
 _MAX_ROUNDS = 400
+#: the most pairs :func:`sample_scenarios` draws in one world (its search's rounds x batch)
+MAX_PAIRS = _BATCH * _MAX_ROUNDS
 # draws of walls of one world, accepted or not
 _WALL_TRIES = 200
 
@@ -247,6 +249,8 @@ def sample_scenarios(
     """
     if n < 0:
         raise ValueError(f"number of scenarios must be >= 0, got {n}")
+    if n > MAX_PAIRS:  # refused before drawing: the search would end short of n anyway
+        raise ValueError(f"at most {MAX_PAIRS} start/goal pairs are drawn in one world, not {n}")
     half_diag = profile.half_diagonal
     clear = CLEARANCE_FACTOR * half_diag if clearance is None else float(clearance)
     if clear < half_diag:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import multiprocessing
 import os
 import select
 import signal
@@ -32,9 +33,11 @@ import subprocess
 import sys
 import threading
 import time
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import resource_tracker
 from pathlib import Path
+from typing import Any
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
 WATCHDOG_PERIOD_S = 0.5
@@ -56,6 +59,37 @@ def die_with_parent(parent_pid: int) -> None:
                 os._exit(1)
             return
     threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+
+
+def spawn_pool(
+    workers: int, initializer: Callable[..., object], initargs: tuple[Any, ...]
+) -> ProcessPoolExecutor:
+    """A pool of ``workers`` spawned processes (spawn, not fork: numba's OpenMP threads do not
+    survive a fork) whose initializer should call :func:`die_with_parent`.
+
+    Multiprocessing's resource tracker is started first with its stderr on /dev/null: after a
+    ``kill -9`` of this process it unlinks the pool's semaphores, as it should, but would say
+    so in a two-line UserWarning under the command's last line."""
+    _start_quiet_resource_tracker()
+    return ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=initializer,
+        initargs=initargs,
+    )
+
+
+def _start_quiet_resource_tracker() -> None:
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 2)
+        os.close(devnull)
+        resource_tracker.ensure_running()  # a no-op when it runs already
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
 
 
 def stop_pool(pool: ProcessPoolExecutor) -> None:

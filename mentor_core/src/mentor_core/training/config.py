@@ -48,6 +48,7 @@ from mentor_core.validation import (
     json_schema,
     merge_mappings,
     read_yaml_extending,
+    short_repr,
     to_plain,
     validate,
     yaml_value,
@@ -273,15 +274,24 @@ class _RunSeed:
     seed: Seed | None = None
 
 
-def load_config_file(path: str | Path) -> tuple[TrainerConfig, int | None]:
+def load_config_file(
+    path: str | Path, robot: str | None = None
+) -> tuple[TrainerConfig, int | None]:
     """A config file, or a run directory's ``config.yaml`` (the resolved config plus the run's
-    ``seed``): the config and that seed (None when the file has none). FileFormatError or
-    ConfigError naming the file as :meth:`TrainerConfig.from_yaml`."""
+    ``seed``): the config and that seed (None when the file has none). With ``robot`` (a
+    command line's ``--robot``), the file's ``robot`` must be that one or absent (then it is
+    that one, with its robot's evolution defaults). FileFormatError or ConfigError naming the
+    file as :meth:`TrainerConfig.from_yaml`."""
     data = read_config(path)
     seed = None
-    if isinstance(data, dict) and "seed" in data:
+    if isinstance(data, dict):
         data = dict(data)
-        seed = validate(_RunSeed, {"seed": data.pop("seed")}, path).seed
+        if "seed" in data:
+            seed = validate(_RunSeed, {"seed": data.pop("seed")}, path).seed
+        if robot is not None:
+            if data.setdefault("robot", robot) != robot:
+                given = short_repr(data["robot"])
+                raise ConfigError(f"the config is for {given}, not --robot {robot}", "robot", path)
     return TrainerConfig.from_dict(data, path), seed
 
 

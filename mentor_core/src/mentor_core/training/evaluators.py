@@ -14,14 +14,12 @@ and, on Linux, on kill -9 too. Used as a context manager, an evaluator left by a
 from __future__ import annotations
 
 import logging
-import multiprocessing
 import os
 import re
 import signal
 import socket
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from functools import partial
 from types import FrameType
 from typing import Any, TypeVar
@@ -30,7 +28,7 @@ import numpy as np
 
 from mentor_core.errors import ConfigError, MentorError, one_line
 from mentor_core.evolution.genome import Genome
-from mentor_core.training.child_processes import Reaper, die_with_parent, stop_pool
+from mentor_core.training.child_processes import Reaper, die_with_parent, spawn_pool, stop_pool
 from mentor_core.training.gain_overlap import GainOverlap, split_evenly
 from mentor_core.training.problem import Evaluation, GainScope, NavigationProblem
 
@@ -154,13 +152,7 @@ class PoolEvaluator(Evaluator):
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
         self.workers = workers
-        # spawn, not fork: numba's OpenMP threads (parallel MST kernel) do not survive a fork
-        self._pool = ProcessPoolExecutor(
-            max_workers=workers,
-            mp_context=multiprocessing.get_context("spawn"),
-            initializer=die_with_parent,
-            initargs=(os.getpid(),),
-        )
+        self._pool = spawn_pool(workers, die_with_parent, (os.getpid(),))
 
     def describe(self) -> str:
         """``"N worker processes"``."""

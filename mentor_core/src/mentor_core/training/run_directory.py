@@ -61,6 +61,16 @@ class RunDirectory:
         self.close(keep_lock_file=exc is not None and (not refused or self.found_lock))
 
 
+def is_run_directory(path: str | Path) -> bool:
+    """Whether ``path`` is a folder holding a training run, or the start of one: one of the
+    files a run writes (:attr:`RunPaths.files`) or the lock of its writer. Other commands
+    never write there."""
+    root = Path(path)
+    if not root.is_dir():
+        return False
+    return (root / LOCK_NAME).exists() or any(p.exists() for p in RunPaths(root).files)
+
+
 def open_run(out_dir: str | Path, *, resume: bool) -> RunDirectory:
     """Open ``out_dir`` for a new run or, with ``resume``, for continuing the run in it.
 

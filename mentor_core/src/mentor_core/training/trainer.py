@@ -52,7 +52,7 @@ from mentor_core.training.run_files import (
     pareto_json,
     population_json,
 )
-from mentor_core.validation import to_plain
+from mentor_core.validation import read_yaml, to_plain, yaml_value
 
 CHECKPOINT_FORMAT = "mentor-train-checkpoint"
 CHECKPOINT_VERSION = 1
@@ -121,10 +121,13 @@ def make_problem(
     bound = prof if config.time_budget is None else dataclasses.replace(
         prof, time_budget_cap=config.time_budget)
     distances = unseen_distances(robot, bound) if config.pair_distances == "test" else None
-    scenarios = training_scenarios(
-        prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds,
-        distances=distances,
-    )  # fmt: skip
+    try:
+        scenarios = training_scenarios(
+            prof, config.scenario_seed, count, cfg=config.doe, worlds=config.training_worlds,
+            distances=distances,
+        )  # fmt: skip
+    except ValueError as err:  # more pairs than the training worlds' free space holds
+        raise ConfigError(one_line(err), key="n_scenarios", path=source) from None
     if config.families:
         try:
             scenarios += family_scenarios(
@@ -498,11 +501,8 @@ def _complete(run: _Run, paths: RunPaths, evaluator: Evaluator) -> tuple[Path, .
 
 def _check_config_file(path: Path, expected_text: str) -> None:
     """Refuse to start again a run whose ``config.yaml`` names another config or seed."""
-    try:
-        saved = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as err:
-        raise FileFormatError(path, f"unreadable ({one_line(err)})") from None
-    if not isinstance(saved, dict) or {**_CONFIG_KEYS_ADDED, **saved} != yaml.safe_load(
+    saved = read_yaml(path)
+    if not isinstance(saved, dict) or {**_CONFIG_KEYS_ADDED, **saved} != yaml_value(
         expected_text
     ):
         raise FileFormatError(path, "was written by a run of a different config or seed")

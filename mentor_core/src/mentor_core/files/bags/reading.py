@@ -41,6 +41,7 @@ from mentor_core.files.bags.records import (
     _robot_topics,
 )
 from mentor_core.sim.frames import quaternion_to_yaw
+from mentor_core.validation import read_yaml
 
 if TYPE_CHECKING:
     from mentor_core.sim.world import Scenario, World
@@ -57,6 +58,7 @@ _CORRUPT: Final = (
     AssertionError,
     struct.error,
     EOFError,
+    RecursionError,
 )
 
 
@@ -103,6 +105,10 @@ def _read_topics(
         raise FileFormatError(p, "not a rosbag2 bag folder")
     if not (p / "metadata.yaml").is_file():
         raise FileFormatError(p, "not a rosbag2 bag: metadata.yaml is missing")
+    try:  # within the bounds of size, nesting and aliases before rosbags reads it
+        read_yaml(p / "metadata.yaml")
+    except FileFormatError as err:
+        raise FileFormatError(p, f"unreadable bag: metadata.yaml: {err.fault}") from None
     ts = _store()
     with _faults(p), Reader(p) as reader:
         conns = {c.topic: c for c in reader.connections}

@@ -6,6 +6,7 @@ renamed into place.
 
 from __future__ import annotations
 
+import glob
 import json
 import math
 import os
@@ -21,6 +22,8 @@ import numpy as np
 from rosbags.interfaces import Qos
 from rosbags.rosbag2 import StoragePlugin, Writer
 
+from mentor_core.atomic import temp_target
+from mentor_core.errors import WriteFault
 from mentor_core.files.bags.messages import (
     QOS_COMMAND,
     QOS_LATCHED,
@@ -89,51 +92,86 @@ def _write_bag(
     """Write ``out`` (in order) on ``topics`` (registered in that order, even when empty) as a
     rosbag2 MCAP bag at ``path``, all or nothing."""
     target = Path(path)
+    if target.parent.is_dir():  # first: a bag a killed write moved aside comes back
+        remove_stale_staging(target)
     if target.exists() or target.is_symlink():
         if not overwrite:
             raise FileExistsError(f"{target}: exists already (pass overwrite=True to replace it)")
         if not looks_like_bag(target):
             raise FileExistsError(f"{target}: exists and is not a rosbag2 bag; not replacing it")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    ts = _store()
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
     try:
-        fresh = staging / target.name
-        writer = Writer(fresh, version=ROSBAG2_VERSION, storage_plugin=StoragePlugin.MCAP)
-        writer.open()
-        try:
-            connections = {
-                t.name: writer.add_connection(
-                    t.name,
-                    t.msgtype,
-                    typestore=ts,
-                    serialization_format="cdr",
-                    offered_qos_profiles=[t.qos],
-                )
-                for t in topics
-            }
-            for item in out:
-                data = ts.serialize_cdr(item.message, item.msgtype)
-                writer.write(connections[item.topic], item.stamp_ns, data)
-        except BaseException:
-            writer.abort()
+        target.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(
+            tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        )
+    except OSError as err:
+        raise WriteFault(target, err) from None
+    try:
+        _write_staged(staging, target, topics, out)
+    except OSError as err:
+        if isinstance(err, WriteFault):
             raise
-        writer.close()
-        for name in os.listdir(fresh):
-            with open(fresh / name, "rb") as handle:
-                os.fsync(handle.fileno())
-        if target.exists() or target.is_symlink():
-            old = staging / ".replaced"
-            os.replace(target, old)
-            try:
-                os.replace(fresh, target)
-            except BaseException:
-                os.replace(old, target)
-                raise
-        else:
-            os.replace(fresh, target)
+        raise WriteFault(target, err) from None
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def remove_stale_staging(target: Path) -> list[Path]:
+    """Remove the staging folders (``.<name>.<8 characters>.tmp``) that writes of the bag
+    ``target`` killed midway left beside it; returns them. A bag that such a write had moved
+    aside to replace it (``<staging>/.replaced``) goes back to ``target`` when nothing took
+    its place."""
+    removed = []
+    for entry in sorted(target.parent.glob(f".{glob.escape(target.name)}.*.tmp")):
+        if temp_target(entry) != target or not entry.is_dir() or entry.is_symlink():
+            continue
+        moved = entry / ".replaced"
+        if moved.is_dir() and not (target.exists() or target.is_symlink()):
+            os.replace(moved, target)
+        shutil.rmtree(entry, ignore_errors=True)
+        removed.append(entry)
+    return removed
+
+
+def _write_staged(
+    staging: Path, target: Path, topics: Sequence[_Topic], out: Sequence[_Out]
+) -> None:
+    """Write the bag in ``staging`` and rename it to ``target`` (the old one moved aside)."""
+    ts = _store()
+    fresh = staging / target.name
+    writer = Writer(fresh, version=ROSBAG2_VERSION, storage_plugin=StoragePlugin.MCAP)
+    writer.open()
+    try:
+        connections = {
+            t.name: writer.add_connection(
+                t.name,
+                t.msgtype,
+                typestore=ts,
+                serialization_format="cdr",
+                offered_qos_profiles=[t.qos],
+            )
+            for t in topics
+        }
+        for item in out:
+            data = ts.serialize_cdr(item.message, item.msgtype)
+            writer.write(connections[item.topic], item.stamp_ns, data)
+    except BaseException:
+        writer.abort()
+        raise
+    writer.close()
+    for name in os.listdir(fresh):
+        with open(fresh / name, "rb") as handle:
+            os.fsync(handle.fileno())
+    if target.exists() or target.is_symlink():
+        old = staging / ".replaced"
+        os.replace(target, old)
+        try:
+            os.replace(fresh, target)
+        except BaseException:
+            os.replace(old, target)
+            raise
+    else:
+        os.replace(fresh, target)
 
 
 def _check_stamps(what: str, stamps: Sequence[int]) -> None:
