@@ -4,7 +4,7 @@
 shipped configs side by side:
 
     for i in 1 2 3 4 5; do for wt in /path/old /path/new; do
-      PYTHONPATH=$wt/mentor_core/src NUMBA_CACHE_DIR=/tmp/nc-$(basename $wt) \\
+      PYTHONPATH=$wt/mentor_core/src NUMBA_CACHE_DIR=$wt/.venv/numba-cache \\
         .venv/bin/python benchmarks/checkout_generation_bench.py \\
         $wt/mentor_core/src/mentor_core/configs/train_ugv_paper.yaml
     done; done

@@ -7,7 +7,7 @@ Runs the genome on the suite's pairs with the paper's 50 s (as ``mentor-bench``)
 first ``--show`` episodes that ended in a collision, prints the family and, for each of its
 last ``--last`` decisions, the readings ``U(t)`` (m) and the action taken (heading change in
 degrees, step in m), read from the episode's experience points ``[U(t), A(t), U(t+1)]``. It is
-how the UGV planners' dithering at walls was seen (``benchmarks/RESULTS.md``, "Better
+how the UGV planners' dithering at walls was seen (experiment E023, "Better
 planners").
 """
 

@@ -18,7 +18,7 @@ and counts, over all (newcomer, outside point) pairs that Prim measures:
   so a box bound could not skip the block.
 
 Also times a full float32 screening sweep per pair (the bounded kernel's ``_sweep32``), the
-least a Prim that looks at every pair spends. Prints JSON. ``benchmarks/RESULTS.md``,
+least a Prim that looks at every pair spends. Prints JSON. experiment E007,
 "Experience gain: what exact pruning could skip".
 """
 

@@ -1,6 +1,6 @@
 """The experience gain's cost to a training generation, with and without the overlap.
 
-    NUMBA_NUM_THREADS=2 .venv/bin/python benchmarks/g_overlap.py --seed 1 --out /tmp/g_overlap \\
+    NUMBA_NUM_THREADS=2 .venv/bin/python benchmarks/g_overlap.py --seed 1 --out out/g_overlap \\
         [--robot ugv] [--framework dual] [--config paper]
 
 Trains in this process. In every generation that computes every genome's G (a dual run's

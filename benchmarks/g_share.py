@@ -1,6 +1,6 @@
 """The experience gain's share of a whole training run, measured inside the run.
 
-    NUMBA_NUM_THREADS=2 .venv/bin/python benchmarks/g_share.py --seed 1 --out /tmp/g_share \\
+    NUMBA_NUM_THREADS=2 .venv/bin/python benchmarks/g_share.py --seed 1 --out out/g_share \\
         [-- mentor-train options, default: --robot ugv --framework dual --config paper]
 
 Runs ``mentor-train`` in this process with the trainer's

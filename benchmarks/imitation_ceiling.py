@@ -4,7 +4,7 @@
         [--seeds 0 1 2 3 4] [--family-pairs 5] [--rounds 8] [--hidden 64 64]
 
 The evolved planners stop at 60-66 % (UGV) and about 80 % (Swarm-Robot) of the benchmark's
-validation pairs, whatever the search is given (``benchmarks/RESULTS.md``). Is that NEAT's
+validation pairs, whatever the search is given (experiment E028). Is that NEAT's
 search, or what any reactive planner can do with these inputs? This trains a reactive
 planner another way, by imitation, and scores it on the same pairs.
 

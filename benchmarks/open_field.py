@@ -12,7 +12,7 @@ overall and per bearing (the shortest path is the straight run into the goal's d
 
 A planner that crosses an empty world with an SPL well under 1 loses that share of every path
 elsewhere too: the shipped UGV planners of 2026-12-02 zig-zag round their goal with an SPL of
-0.6 here, while VFH+ and Bug2 reach 0.98 (``benchmarks/RESULTS.md``, "More scenarios, a
+0.6 here, while VFH+ and Bug2 reach 0.98 (experiment E047, "More scenarios, a
 mirror-symmetric planner, ..."). Not a split of the benchmark: nothing here is tuned on it.
 """
 

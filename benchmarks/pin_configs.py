@@ -8,8 +8,8 @@ departures, and so does a robot file of variants (``robots_*.yaml``, ``extends: 
 so a change to a shipped file changes every experiment built on it. The pins (sha256 of
 each resolved config or robot profiles) make that change visible: ``tests/test_config.py`` fails
 naming the configs that moved. Then either write the old values into those configs (they
-train what ``benchmarks/RESULTS.md`` measured) or, where the experiment should follow the new
-shipped config, pin again with this script.
+train what the experiments in ``benchmarks/experiments/`` measured) or, where the experiment
+should follow the new shipped config, pin again with this script.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@
 
 DistBug leaves an obstacle once it can get nearer to the goal than it has been since it met
 it; a reactive planner has no such memory, and NEAT does not evolve one from its memory units
-(``benchmarks/RESULTS.md``, "Better planners", "The way round"). Here the network gets it
+(experiment E023, "Better planners", "The way round"). Here the network gets it
 ready-made: the config must set ``feedback_action: true`` (and the egocentric inputs); the
 second fed-back slot (the previous step output) is replaced by ``P = S / S_max``, the goal
 signal ``S = R / max(d, R)`` over the largest one of the episode so far, i.e. ``d_min / d``:

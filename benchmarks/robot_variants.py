@@ -1,4 +1,4 @@
-"""Write the robot files of the UGV experiments in benchmarks/RESULTS.md into a folder.
+"""Write the robot files of the UGV experiments (benchmarks/experiments/) into a folder.
 
     .venv/bin/python benchmarks/robot_variants.py OUT_DIR
 

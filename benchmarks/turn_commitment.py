@@ -4,7 +4,7 @@
         [--split validation] [--pairs-per-family 20] [--rule commit|goal_frame|bug]
 
 The UGV planners' collisions on the benchmark end in alternating +-45 deg turns at the smallest
-step while the way ahead is blocked (``benchmarks/RESULTS.md``, "Better planners"). This wraps
+step while the way ahead is blocked (experiment E023, "Better planners"). This wraps
 each genome's policy, at evaluation time only, with a Bug-like commitment: while the clearance
 limit holds the step at its smallest (``observation.clearance_limit`` of the chosen turn is
 ``step_min``), a turn to the other side than the previous decision's is mirrored to the

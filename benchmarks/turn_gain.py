@@ -11,7 +11,7 @@ rotation shim and the collision guard: ``contenders.as_deployed``) with each gai
 **validation** split within the paper's 50 s, and prints success, SPL and collisions, per
 genome and as the mean over the genomes, and how much longer the driven paths of the
 successes are than their chords (the arcs' share of the excess). The test split is never
-touched. ``benchmarks/RESULTS.md``, "A gain on the turn", chose the Swarm-Robot's 0.75 with
+touched. experiment E054, "A gain on the turn", chose the Swarm-Robot's 0.75 with
 it.
 """
 

@@ -15,7 +15,7 @@ all): the share of decisions with a reading that near, the share of full turns w
 one, and where nothing is that near, the slope of the turn over the bearing of the goal the
 network sees (bearings within 30 deg; 1 turns onto the carrot in one decision, 2 overshoots it
 by as much).
-``benchmarks/RESULTS.md``, "Where the UGV's full turns come from" (2026-12-04).
+experiment E061, "Where the UGV's full turns come from" (2026-12-04).
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""Rules on a planner's turns, experiments of benchmarks/RESULTS.md: the Bug-like turn commitment
-(sim/commitment.py), turns relative to the goal (sim/goal_frame.py), their trainer config keys."""
+"""Rules on a planner's turns, experiment E024 (benchmarks/experiments/): the Bug-like turn
+commitment (sim/commitment.py), turns relative to the goal (sim/goal_frame.py), their trainer
+config keys."""
 
 from __future__ import annotations
 

@@ -18,7 +18,7 @@ square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides i
 odometry frame), or with a size of 0 the square about the simulator's arena
 (``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each
 simulator episode's ``started`` event, as each benchmark episode does, and is kept from goal
-to goal (``scan_map_keep``, the default; ``benchmarks/RESULTS.md``, "The scan map from goal to
+to goal (``scan_map_keep``, the default; experiment E048, "The scan map from goal to
 goal"), or with ``scan_map_keep:=false`` starts empty at each new goal too. It is published on
 ``scan_map`` (latched, in the odometry frame, for RViz) with each new plan and at most every
 :data:`MAP_EVERY_S` s of the node's clock in between.

@@ -147,7 +147,7 @@ def as_deployed(
     clearance_cost: float | None = None, least_margin: float | None = None,
 ) -> Contender:  # fmt: skip
     """``contender`` (an evolved planner) as the shipped planners are deployed and scored
-    (``benchmarks/RESULTS.md``, "Where it stands"): deciding every ``control_period`` s
+    (experiment E018, "Where it stands"): deciding every ``control_period`` s
     (default its robot's: :func:`~mentor_core.runtime.planner.deployed_control_period`) on
     its scan map (:func:`on_scan_map`, ``lookahead``, ``clearance_cost``, ``least_margin``),
     behind the collision guard and a

@@ -42,7 +42,7 @@ class ScanMap:
     sonar model of Moravec and Elfes: the obstacle lies somewhere on that arc; rays that
     later pass a cell of the arc clear it) or, as :func:`scan_guided_goals` does unless
     asked, left out (an arc as wide as the cone closes gaps the robot could pass: measured
-    in ``benchmarks/RESULTS.md``, "A map of what the robot read").
+    in experiment E026, "A map of what the robot read").
     """
 
     def __init__(
@@ -170,7 +170,7 @@ SCAN_CELL_MIN = 0.025
 def scan_map_resolution(profile: RobotProfile) -> float:
     """The scan map's cell: a quarter of the footprint's circumscribed radius, to 5 mm, but
     not under :data:`SCAN_CELL_MIN` (0.05 m for the UGV, 0.025 m for the Swarm-Robot).
-    Chosen on the validation split (``benchmarks/RESULTS.md``, "The scan map's cells"): the
+    Chosen on the validation split (experiment E050, "The scan map's cells"): the
     UGV's headline planners reach 92.6 % with 0.05 m cells, 91.1 % with 0.1 m (half the
     radius, before) and 81.9 % with 0.2 m; the Swarm-Robot's reach 88.6, 88.0 and 85.7 %
     with 0.0125, 0.025 and 0.05 m."""
@@ -178,7 +178,7 @@ def scan_map_resolution(profile: RobotProfile) -> float:
 
 
 #: the carrot's distance along a plan on the scan map, in goal radii (the world-map guide's:
-#: 2). Chosen on the validation split (``benchmarks/RESULTS.md``, "The carrot on the scan
+#: 2). Chosen on the validation split (experiment E046, "The carrot on the scan
 #: map"): the UGV's planners behind the shim and the guard reach 91 % with 1-1.5 radii, 89 %
 #: with 2 and 86 % with 4; the Swarm-Robot's are level (88 %) at 1.5 and 2.
 SCAN_LOOKAHEAD_RADII = 1.5
@@ -187,7 +187,7 @@ SCAN_LOOKAHEAD_RADII = 1.5
 #: (``navigation.grid_planner``): the plan keeps the whole margin (one footprint radius beyond
 #: the footprint's, ``guide_config``) where that costs little and must keep
 #: :data:`SCAN_LEAST_MARGIN_RADII` of it; a robot not named keeps the whole margin as a hard
-#: disc. Chosen on the validation split (``benchmarks/RESULTS.md``, "A clearance cost on the
+#: disc. Chosen on the validation split (experiment E080, "A clearance cost on the
 #: scan map's plan"): the Swarm-Robot's planners reach 92.8 % / SPL 0.856 against 91.9 % /
 #: 0.842 with the hard disc, which closed gaps four of its body widths wide; the UGV's were
 #: level (its dense forests gained 3 points, its mazes lost 4).

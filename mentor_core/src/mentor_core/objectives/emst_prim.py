@@ -33,7 +33,7 @@ running minimum is kept per block of ``_BLOCK`` slots with the first slot winnin
 plain kernel's scan does: equal choices are made alike, so even ties give the same sum. Points
 whose float32 copy could overflow go to the plain kernel.
 
-Measured (``benchmarks/RESULTS.md``, issue 15): 1.6x the plain kernel's speed over a paper-scale
+Measured (experiment E005): 1.6x the plain kernel's speed over a paper-scale
 generation's point sets (1.0-3x set by set, most where experiences repeat), 1.6-2.2x on 4,000
 trajectory-like points in 18-D; the flags and the duplicate test on the link then made it
 1.2x faster again on real training sets ("Experience gain: a quarter of a stage-1 generation").

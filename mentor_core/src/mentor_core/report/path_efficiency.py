@@ -15,7 +15,7 @@ A planner that fails the hard pairs has its ``E`` over the easy ones, so two pla
 paths are compared on the pairs both reached (:func:`paired_efficiency`): each evolved
 planner (its seeds pooled, each seed on the pairs it and the baseline reached) against the
 baseline that sets the head to head's SPL bar in each family
-(:mod:`~mentor_core.report.head_to_head`). ``benchmarks/RESULTS.md``, "Twice the population,
+(:mod:`~mentor_core.report.head_to_head`). experiment E077, "Twice the population,
 ..., and where the UGV's sparse-forest SPL goes", has what it showed.
 """
 

@@ -132,7 +132,7 @@ def planner_profile(
 
 #: the gain on the network's turn (:mod:`mentor_core.sim.turn_gain`) the shipped planners are
 #: deployed with, per robot (absent: 1). Chosen on the benchmark's validation split
-#: (``benchmarks/RESULTS.md``, "A gain on the turn"): the Swarm-Robot's shipped planners reach
+#: (experiment E054, "A gain on the turn"): the Swarm-Robot's shipped planners reach
 #: 89.9 % of its 720 pairs as trained and 90.7 % at 0.75; the UGV's gained nothing.
 DEPLOYED_TURN_GAIN = {"swarm": 0.75}
 
@@ -141,7 +141,7 @@ DEPLOYED_SHIM_DEG = 45.0
 
 #: the view corridor's margin (:mod:`mentor_core.sim.view_corridor`) the shipped planners are
 #: deployed with, m, per robot (absent: none). Chosen on the benchmark's validation split
-#: (``benchmarks/RESULTS.md``, "A view corridor"): the Swarm-Robot's shipped planners reach
+#: (experiment E064, "A view corridor"): the Swarm-Robot's shipped planners reach
 #: 90.7 % / 0.795 SPL of its 720 pairs without and 91.7 % / 0.813 with 0.1 m; the UGV's lost
 #: goals with any.
 DEPLOYED_VIEW_MARGIN = {"swarm": 0.1}
@@ -149,7 +149,7 @@ DEPLOYED_VIEW_MARGIN = {"swarm": 0.1}
 
 #: decisions a shipped planner of a robot makes in the period it was trained to decide in
 #: (:mod:`mentor_core.sim.decision_split`; absent: 1). Chosen on the benchmark's validation
-#: split (``benchmarks/RESULTS.md``, "Deciding twice as often at deployment"): the UGV's
+#: split (experiment E079, "Deciding twice as often at deployment"): the UGV's
 #: shipped planners reach 96.8 % / 0.761 SPL of its 720 pairs at 0.5 s and 97.5 % / 0.801 at
 #: 0.25 s; the Swarm-Robot's, on their scan map's plan with its clearance cost ("The
 #: Swarm-Robot deciding twice a second, with the clearance cost"), 92.6 % / 0.854 of its 1,440

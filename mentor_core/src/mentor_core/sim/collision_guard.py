@@ -24,7 +24,7 @@ up when it is stuck. Here, at each decision:
    length that is free of the points behind its centre line (a negative step), else lets
    the planner's arc stand.
 
-Why (``benchmarks/RESULTS.md``, "A guard against driving into what the robot has read"): most
+Why (experiment E044, "A guard against driving into what the robot has read"): most
 of the shipped UGV planners' collisions come at the smallest step, turning on the spot next to
 an obstacle read a few cm off a front corner, where every turn would hit; backing up frees
 them. Arcs are checked with the simulator's own swept-body test
@@ -49,7 +49,7 @@ from mentor_core.sim.world import World
 FloatArray = NDArray[np.float64]
 
 #: decisions of readings the guard remembers; longer memories lost on the validation split
-#: (remembered beam arcs block gaps: benchmarks/RESULTS.md, "A longer memory for the
+#: (remembered beam arcs block gaps: experiment E052, "A longer memory for the
 #: collision guard")
 MEMORY = 3
 #: heading changes tried across ``[-h, h]`` when the planner's arc would hit

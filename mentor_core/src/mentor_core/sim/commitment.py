@@ -2,7 +2,7 @@
 
 Not in the paper; off by default (the trainer config's ``turn_commitment``). The UGV planners'
 collisions end in alternating +-45 deg turns at the smallest step while a wall blocks the way
-ahead (``benchmarks/RESULTS.md``, "Better planners"): facing a wall with the goal behind it, a
+ahead (experiment E023, "Better planners"): facing a wall with the goal behind it, a
 turn either way puts the goal on the other side. While the clearance limit holds the chosen
 turn's step at ``step_min`` (``observation.clearance_limit``), a turn output on the other side
 of 0.5 (straight on) than the robot's previous decision's is mirrored about 0.5 to that side,

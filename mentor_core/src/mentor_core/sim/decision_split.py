@@ -10,7 +10,7 @@ world ``k`` times as often; one that turns its full limit at nearly every decisi
 evolved planners do, weaves ``k`` times less wide about its way.
 
 Chosen on the benchmark's validation split for the shipped UGV planners (half their trained
-period, 0.25 s; ``benchmarks/RESULTS.md``, "Deciding twice as often at deployment"). Training
+period, 0.25 s; experiment E079, "Deciding twice as often at deployment"). Training
 at the finer period did not do as well ("The UGV trained to decide four times a second").
 """
 

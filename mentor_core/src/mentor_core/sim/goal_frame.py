@@ -3,7 +3,7 @@
 Not in the paper; off by default (the trainer config's ``turn_frame: goal``; an experiment).
 With the paper's actions the turn output ``o_1`` is a heading change in the body frame, so a
 planner that turns away from a wall it faces sees the goal move to its other side and, if it
-weighs the goal's bearing, turns back: the dithering at walls of ``benchmarks/RESULTS.md``.
+weighs the goal's bearing, turns back: the dithering at walls of experiment E023.
 Here ``o_1`` names a heading ``phi = pi (2 o_1 - 1)`` relative to the goal's bearing ``beta``
 (the egocentric goal inputs), and the robot turns towards it as far as the heading-change
 limit allows: ``dtheta = clip(wrap(beta + phi), -h, h)``. ``o_1 = 0.5`` heads for the goal; a

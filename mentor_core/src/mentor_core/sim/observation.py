@@ -24,7 +24,7 @@ paper) reads each ``U_i`` as a proximity instead (:func:`range_inputs`)::
 lambda)`` for nothing seen. Why: in metres a tree that comes into view 3 m away already
 moves its input by a quarter of the input's range, and NEAT's steep sigmoid turns that into
 a full turn, so the UGV's planners zig-zag wherever their 4 m sensors read anything
-(``benchmarks/RESULTS.md``, "Where the UGV's full turns come from"); a proximity leaves what
+(experiment E061, "Where the UGV's full turns come from"); a proximity leaves what
 is far nearly unseen and what is near salient.
 
 A planner with a view corridor (``RobotProfile.view_margin``, a planner setting; not in the

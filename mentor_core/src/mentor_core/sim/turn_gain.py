@@ -16,7 +16,7 @@ of up to ``h``. A planner that reads its previous action reads the turn it took.
 and the memory outputs pass unchanged.
 
 Chosen on the benchmark's validation split for the shipped Swarm-Robot planners (0.75;
-``benchmarks/RESULTS.md``, "A gain on the turn"); the UGV's planners gained nothing from it.
+experiment E054, "A gain on the turn"); the UGV's planners gained nothing from it.
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ guided scenario, the waypoint it is shown). The collision guard
 (:mod:`mentor_core.sim.collision_guard`) and the clearance limit still read every reading.
 
 Chosen on the benchmark's validation split for the shipped Swarm-Robot planners (0.1 m, in
-training and at deployment; ``benchmarks/RESULTS.md``, "A view corridor" and "Trained with
+training and at deployment; experiment E064, "A view corridor" and "Trained with
 the view corridor"); it cost the UGV's planners goals either way, whose 4 m sensors read the
 walls they keep to.
 """

@@ -106,28 +106,30 @@ class TrainerConfig:
     goal_distance: GoalDistanceKind = "euclidean"
     """S_f in the performance F of a failed scenario (paper eq. 4): "euclidean", the straight
     distance to the goal (the paper's), or "geodesic", the shortest way round the obstacles
-    (mentor_core.training.problem.NavigationProblem); see docs/algorithm.md "Performance"."""
+    (mentor_core.training.problem.NavigationProblem); see docs/algorithm.md
+    "The final distance `S_f` of a failure in F"."""
     success_credit: SuccessCredit = "time"
     """What a success adds to its 1 in the performance F (paper eq. 4): "time", the share of
     the time budget left (the paper's), or "path", the shortest path's length over the length
     driven (the per-pair term of the benchmark's SPL; not in the paper); see docs/algorithm.md
-    "Performance"."""
+    "The credit of a success in F"."""
     guide: Guide = "none"
     """The goal the network sees in training: "none", the scenario's goal (the paper's), or
     "waypoint", the direction of the shortest way at the distance still to go, as a global
     plan's carrot shows it (mentor_core.navigation.waypoints; not in the paper): planners
     trained to follow a plan, for a robot with a map (mentor-bench --scan-map, the planner
-    node's global_plan). Training only; see docs/algorithm.md "Performance"."""
+    node's global_plan). Training only; see docs/algorithm.md "The goal a network sees in
+    training"."""
     guide_share: Annotated[Float, Field(gt=0.0, le=1.0)] = 1.0
     """The share of the training scenarios whose networks are shown the way under guide:
     waypoint (evenly spread over them); the others see their goal."""
     turn_commitment: bool = False
     """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
-    not in the paper): an experiment of benchmarks/RESULTS.md, applied in training only."""
+    not in the paper): experiment E024, applied in training only."""
     turn_frame: TurnFrame = "body"
     """What the turn output names: a heading change in the body frame ("body", the paper's) or
     a heading relative to the goal's bearing ("goal", mentor_core.sim.goal_frame; not in the
-    paper): an experiment of benchmarks/RESULTS.md, applied in training only."""
+    paper): experiment E024, applied in training only."""
     input_encoding: InputEncoding = "egocentric"
     """The network's goal inputs, "egocentric" or "paper" (mentor_core.sim.observation);
     written into the best genome's metadata so that the planner node and mentor-eval feed the

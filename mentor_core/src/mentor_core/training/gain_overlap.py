@@ -2,7 +2,7 @@
 
 A generation's simulation steps all its robots in one Python thread, and its experience gains
 (G, paper eqs. 5-8) are compiled kernels that need the simulation's points. Done one after the
-other, G's minimum spanning trees are a large share of a generation (``benchmarks/RESULTS.md``,
+other, G's minimum spanning trees are a large share of a generation (experiment E011,
 "The experience gain beside the simulation"), and while the simulation runs, every core
 but one is idle. With a :class:`GainOverlap`,
 :meth:`~mentor_core.training.problem.NavigationProblem.evaluate` simulates the genomes in

@@ -18,9 +18,9 @@ many goals as the current genome, when its credit is higher. Goals reached and c
 fall, on these scenarios.
 
 Why: evolution ranks F (paper eq. 3), whose time credit hardly sees a detour, and every
-attempt to press on the path within F cost goals (``benchmarks/RESULTS.md``, "Crediting the
+attempt to press on the path within F cost goals (experiment E029, "Crediting the
 path" and after). Refining the finished planner with goals held as a constraint does not
-trade them. Chosen for both robots on the validation split (``benchmarks/RESULTS.md``,
+trade them. Chosen for both robots on the validation split (experiment E074,
 "Refining the weights after evolution"; the UGV's on a sparse forest, "Seven more
 refinements, and a memory of the last action").
 """
