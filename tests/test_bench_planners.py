@@ -30,7 +30,8 @@ from mentor_core.sim.collision import default_sample_step
 from mentor_core.sim.episode import Policy, run_episodes
 from mentor_core.sim.kinematics import unicycle_arc
 from mentor_core.sim.observation import actions_from_outputs, network_inputs
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario, World
 
 ROBOTS = ["ugv", "swarm"]

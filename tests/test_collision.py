@@ -13,7 +13,6 @@ from mentor_core.sim.collision import (
     first_collisions,
     robot_collides,
     sample_counts,
-    separation_margin,
     sweep_may_collide,
     swept_collision,
     swept_events,
@@ -22,6 +21,7 @@ from mentor_core.sim.collision import (
 from mentor_core.sim.kinematics import arc_samples
 from mentor_core.sim.robots import body_corners, get_profile
 from mentor_core.sim.sensors import HAVE_NUMBA, Backend
+from mentor_core.sim.separation import separation_margin
 from mentor_core.sim.world import World
 
 UGV = get_profile("ugv")  # 0.30 x 0.25 m

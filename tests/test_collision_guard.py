@@ -15,7 +15,8 @@ from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.sim.collision import swept_collision
 from mentor_core.sim.collision_guard import BACKUP_SHARES, CollisionGuard, read_points
 from mentor_core.sim.episode import run_episodes
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.sensors import sensor_readings
 from mentor_core.sim.world import Scenario, World
 

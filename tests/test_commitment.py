@@ -12,7 +12,8 @@ import pytest
 from mentor_core.errors import ConfigError
 from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.goal_frame import goal_frame_turns
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.trainer import make_problem
 

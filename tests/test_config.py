@@ -376,9 +376,10 @@ def test_experiment_configs_load(path: Path) -> None:
 
 def test_experiment_configs_train_what_was_pinned() -> None:
     """A shipped config's change moves the experiments that extend it: the pins
-    (benchmarks/pin_configs.py) say which, so that RESULTS' configs stay what was measured."""
+    (benchmarks/tools/pin_configs.py) say which, so that the experiments' configs stay what was
+    measured."""
     done = subprocess.run(
-        [sys.executable, str(ROOT / "benchmarks/pin_configs.py"), "--check"],
+        [sys.executable, str(ROOT / "benchmarks/tools/pin_configs.py"), "--check"],
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr

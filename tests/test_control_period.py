@@ -14,7 +14,8 @@ import pytest
 from mentor_core.errors import ConfigError
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.episode import run_episodes
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.trainer import train

@@ -15,7 +15,8 @@ from mentor_core.evolution.genome import minimal_genome
 from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.navigation.pairs import distance_range
 from mentor_core.navigation.shortest_path import VisibilityGraph
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.curriculum import drivable_length, family_scenarios, unseen_distances

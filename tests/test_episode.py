@@ -7,7 +7,8 @@ import pytest
 from profiles_support import single_rays
 
 from mentor_core.sim.episode import run_episodes
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario, World
 
 UGV = get_profile("ugv")  # dt 1 s, goal radius 1 m, ds in [0.1, 2] m, budget 2 d / (1 m/s)

@@ -18,7 +18,8 @@ from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.runtime.recording import record_planners, recorded_episodes
 from mentor_core.runtime.simulator import RobotSetup, run_reference_episode
 from mentor_core.sim.observation import action_from_twist
-from mentor_core.sim.robots import get_profile, sensor_record, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile, sensor_record
 
 ROOT = Path(__file__).resolve().parents[1]
 UNSEEN_SWARM = ROOT / "bags" / "unseen" / "swarm"

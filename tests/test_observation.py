@@ -21,7 +21,8 @@ from mentor_core.sim.observation import (
     signal_gradient,
     twist_from_action,
 )
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 
 SWARM = get_profile("swarm")
 UGV = get_profile("ugv")

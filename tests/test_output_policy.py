@@ -23,12 +23,12 @@ import yaml
 
 from mentor_core.cli import bench, evaluate, report, train
 from mentor_core.cli import outputs as outputs_module
-from mentor_core.errors import FileFormatError
+from mentor_core.errors import FileFormatError, short_repr
 from mentor_core.evolution.genome import genome_from_edges
 from mentor_core.files.genome_file import save_genome
 from mentor_core.navigation.map_file import load_map
 from mentor_core.training.memory_bound import check_memory, run_bytes
-from mentor_core.validation import YAML_MAX_DEPTH, read_yaml, short_repr, yaml_value
+from mentor_core.yaml_reading import YAML_MAX_DEPTH, read_yaml, yaml_value
 
 ROOT = Path(__file__).resolve().parents[1]
 PLANNER = ROOT / "planners" / "swarm-paper-dual-s1.json"

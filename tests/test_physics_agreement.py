@@ -20,13 +20,13 @@ from profiles_support import rays_as_sensors
 from mentor_core.sim.collision import (
     robot_collides,
     sample_counts,
-    separation_margin,
     swept_collision,
     swept_samples,
 )
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import sample_world
 from mentor_core.sim.sensors import beam_frames, sensor_readings
+from mentor_core.sim.separation import separation_margin
 from mentor_core.sim.world import World
 
 pymunk_world = pytest.importorskip(

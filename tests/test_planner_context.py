@@ -21,7 +21,8 @@ from mentor_core.files.genome_file import load_genome_and_metadata, save_genome
 from mentor_core.runtime.planner import DecisionGate, GenomePlanner, planner_profile
 from mentor_core.sim import observation
 from mentor_core.sim.episode import run_episodes
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.trainer import make_problem

@@ -34,8 +34,9 @@ from mentor_core.runtime.guided_planner import GuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.wiring import Wiring, wire_pose
 from mentor_core.sim.lidar import LidarSpec, lidar_scan
+from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.pymunk_world import PymunkWorld
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.sim.scan_adapter import LidarMount, readings_from_scan
 from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import World

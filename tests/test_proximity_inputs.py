@@ -16,7 +16,8 @@ from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import genome_from_edges
 from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.sim.observation import network_inputs, range_inputs, ranges_from_inputs
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.trainer import make_problem, train
 

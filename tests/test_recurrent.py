@@ -26,7 +26,8 @@ from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.evolution.mutation import MutationConfig, mutate, mutated_genomes
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.runtime.planner import GenomePlanner
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.training.config import TrainerConfig
 from mentor_core.training.evaluators import InProcessEvaluator, PoolEvaluator
 from mentor_core.training.run_files import load_population

@@ -16,7 +16,8 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.sim.episode import EpisodeBatch, run_episodes
 from mentor_core.sim.observation import network_inputs
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.rotation_shim import goal_bearing, rotation_shim
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.config import TrainerConfig

@@ -18,7 +18,8 @@ from mentor_core.benchmark.contenders import as_deployed, evolved
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.planner import planner_profile
 from mentor_core.sim.episode import run_episodes
-from mentor_core.sim.robots import get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.config import shipped_config
 

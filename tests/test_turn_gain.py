@@ -19,7 +19,8 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.runtime.planner import GenomePlanner, deployed_turn_gain
 from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.observation import actions_from_outputs
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.turn_gain import turn_gain
 from mentor_core.sim.world import Scenario, World
 

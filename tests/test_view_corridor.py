@@ -17,7 +17,8 @@ from mentor_core.benchmark.contenders import as_deployed, evolved
 from mentor_core.errors import ConfigError
 from mentor_core.runtime.planner import GenomePlanner, deployed_view_margin
 from mentor_core.sim.observation import network_inputs
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.view_corridor import corridor_ranges, set_view_margin
 
 REPO = Path(__file__).resolve().parents[1]

@@ -22,133 +22,31 @@ use, so importing one wing does not import the others.
 
 from __future__ import annotations
 
+import ast
 import importlib
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-# public name -> module that defines it
-_EXPORTS: dict[str, str] = {
-    # foundation
-    "MentorError": "mentor_core.errors",
-    "ConfigError": "mentor_core.errors",
-    "FileFormatError": "mentor_core.errors",
-    # evolution
-    "Genome": "mentor_core.evolution.genome",
-    "InnovationTracker": "mentor_core.evolution.innovation",
-    "FeedForwardNetwork": "mentor_core.evolution.network",
-    "EvolutionConfig": "mentor_core.evolution.config",
-    "Evolution": "mentor_core.evolution.loop",
-    "non_dominated_ranks": "mentor_core.evolution.ranking",
-    "crowding_distance": "mentor_core.evolution.ranking",
-    "scalar_fitness": "mentor_core.evolution.ranking",
-    # sim
-    "RobotProfile": "mentor_core.sim.robots",
-    "get_profile": "mentor_core.sim.robots",
-    "load_profiles": "mentor_core.sim.robots",
-    "World": "mentor_core.sim.world",
-    "Scenario": "mentor_core.sim.world",
-    "load_world": "mentor_core.sim.world",
-    "save_world": "mentor_core.sim.world",
-    "network_inputs": "mentor_core.sim.observation",
-    "twist_from_action": "mentor_core.sim.observation",
-    "action_from_twist": "mentor_core.sim.observation",
-    "MAP_FRAME": "mentor_core.sim.frames",
-    "ODOM_FRAME": "mentor_core.sim.frames",
-    "yaw_to_quaternion": "mentor_core.sim.frames",
-    "quaternion_to_yaw": "mentor_core.sim.frames",
-    "Transform2D": "mentor_core.sim.transforms",
-    "FrameTree": "mentor_core.sim.transforms",
-    "planar_transform": "mentor_core.sim.transforms",
-    "LidarSpec": "mentor_core.sim.lidar",
-    "LaserScanData": "mentor_core.sim.scan_adapter",
-    "LidarMount": "mentor_core.sim.scan_adapter",
-    "ScanReadings": "mentor_core.sim.scan_adapter",
-    "readings_from_scan": "mentor_core.sim.scan_adapter",
-    "FrameLink": "mentor_core.sim.robot_description",
-    "frame_id": "mentor_core.sim.robot_description",
-    "robot_links": "mentor_core.sim.robot_description",
-    "robot_urdf": "mentor_core.sim.robot_description",
-    "BASE_LINK": "mentor_core.sim.robot_description",
-    "LIDAR_LINK": "mentor_core.sim.robot_description",
-    # objectives
-    "performance": "mentor_core.objectives.performance",
-    "experience_gain": "mentor_core.objectives.experience",
-    "flops_ratio": "mentor_core.objectives.complexity",
-    # files
-    "save_genome": "mentor_core.files.genome_file",
-    "load_genome": "mentor_core.files.genome_file",
-    "load_genome_and_metadata": "mentor_core.files.genome_file",
-    "EventKind": "mentor_core.files.bags",
-    "EVENT_FORMAT": "mentor_core.files.bags",
-    "EVENT_KINDS": "mentor_core.files.bags",
-    "read_scenario_bag": "mentor_core.files.bags",
-    "write_scenario_bag": "mentor_core.files.bags",
-    "read_episode_bag": "mentor_core.files.bags",
-    "write_episode_bag": "mentor_core.files.bags",
-    "BAG_VERSION": "mentor_core.files.bags",  # of the bag and event formats
-    "scan_geometry": "mentor_core.files.bags",
-    "box_markers": "mentor_core.files.bags",
-    "arena_outline": "mentor_core.files.bags",
-    "ARENA_LINE_WIDTH": "mentor_core.files.bags",
-    # navigation
-    "OccupancyGrid": "mentor_core.navigation.grid",
-    "world_grid": "mentor_core.navigation.grid",
-    "load_map": "mentor_core.navigation.map_file",
-    "save_map": "mentor_core.navigation.map_file",
-    "load_world_file": "mentor_core.navigation.map_world",
-    "GridPlanner": "mentor_core.navigation.grid_planner",
-    "GuideConfig": "mentor_core.navigation.guide",
-    "PathGuide": "mentor_core.navigation.guide",
-    "guide_config": "mentor_core.navigation.guide",
-    "scan_guide_config": "mentor_core.navigation.scan_map",
-    # training
-    "TrainerConfig": "mentor_core.training.config",
-    "load_config_file": "mentor_core.training.config",
-    "train": "mentor_core.training.trainer",
-    "NavigationProblem": "mentor_core.training.problem",
-    "assess": "mentor_core.training.assessment",
-    # runtime
-    "GenomePlanner": "mentor_core.runtime.planner",
-    "genome_control_period": "mentor_core.runtime.planner",
-    "deployed_turn_gain": "mentor_core.runtime.planner",
-    "deployed_control_period": "mentor_core.runtime.planner",
-    "deployed_view_margin": "mentor_core.runtime.planner",
-    "DecisionGate": "mentor_core.runtime.planner",
-    "RobotPlanner": "mentor_core.runtime.robot_graph",
-    "robot_planners": "mentor_core.runtime.robot_graph",
-    "simulator_period": "mentor_core.runtime.robot_graph",
-    "parse_genomes": "mentor_core.runtime.robot_graph",
-    "headline_parameters": "mentor_core.runtime.robot_graph",
-    "ReferenceSimulator": "mentor_core.runtime.simulator",
-    "Event": "mentor_core.runtime.simulator",
-    "ScenarioPlan": "mentor_core.runtime.scenario_plan",
-    "load_scenario_source": "mentor_core.runtime.scenario_plan",
-    "source_map": "mentor_core.runtime.scenario_plan",
-    "GuidedPlanner": "mentor_core.runtime.guided_planner",
-    "ScanGuidedPlanner": "mentor_core.runtime.guided_planner",
-    "wire_grid": "mentor_core.runtime.guided_planner",
-    "CommandBarrier": "mentor_core.runtime.lockstep",
-    "LatestCommands": "mentor_core.runtime.lockstep",
-    "EpisodeRecorder": "mentor_core.runtime.recording",
-    "SimSession": "mentor_core.runtime.sim_session",
-    "SessionConfig": "mentor_core.runtime.sim_session",
-    "SessionPort": "mentor_core.runtime.sim_session",
-    "Outcome": "mentor_core.runtime.sim_session",
-    "Wiring": "mentor_core.runtime.wiring",
-    "PlannerFrames": "mentor_core.runtime.planner_frames",
-    "parameter_fault": "mentor_core.runtime.ros_arguments",
-    "launch_count": "mentor_core.runtime.ros_arguments",
-    "launch_flag": "mentor_core.runtime.ros_arguments",
-    "launch_number": "mentor_core.runtime.ros_arguments",
-    "ContinuousConfig": "mentor_core.runtime.session_config",
-    "bounds_fault": "mentor_core.runtime.goal_intake",
-    "bounds_in": "mentor_core.runtime.goal_intake",
-    "Bounds": "mentor_core.runtime.goal_intake",
-    # report
-    "write_report": "mentor_core.report.markdown",
-}
 
+def _exports() -> dict[str, str]:
+    """Public name -> module that defines it, read from the imports below (declared once)."""
+    tree = ast.parse(Path(__file__).read_text(encoding="utf-8"))
+    guard = next(
+        node
+        for node in tree.body
+        if isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING"
+    )
+    return {
+        alias.asname or alias.name: node.module
+        for node in guard.body
+        if isinstance(node, ast.ImportFrom) and node.module
+        for alias in node.names
+    }
+
+
+_EXPORTS = _exports()
 __all__ = ["__version__", *_EXPORTS]
 
 
@@ -166,7 +64,10 @@ def __dir__() -> list[str]:
     return sorted(__all__)
 
 
-if TYPE_CHECKING:  # the same names, for type checkers
+# The public API, by wing: every name a user or a node package imports from ``mentor_core``.
+# Type checkers read these imports; at run time each is loaded on first use (``__getattr__``).
+if TYPE_CHECKING:
+    # foundation
     from mentor_core.errors import (
         ConfigError as ConfigError,
     )
@@ -176,21 +77,13 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.errors import (
         MentorError as MentorError,
     )
-    from mentor_core.evolution.config import (
-        EvolutionConfig as EvolutionConfig,
-    )
-    from mentor_core.evolution.genome import (
-        Genome as Genome,
-    )
-    from mentor_core.evolution.innovation import (
-        InnovationTracker as InnovationTracker,
-    )
-    from mentor_core.evolution.loop import (
-        Evolution as Evolution,
-    )
-    from mentor_core.evolution.network import (
-        FeedForwardNetwork as FeedForwardNetwork,
-    )
+    from mentor_core.evolution.config import EvolutionConfig as EvolutionConfig
+
+    # evolution
+    from mentor_core.evolution.genome import Genome as Genome
+    from mentor_core.evolution.innovation import InnovationTracker as InnovationTracker
+    from mentor_core.evolution.loop import Evolution as Evolution
+    from mentor_core.evolution.network import FeedForwardNetwork as FeedForwardNetwork
     from mentor_core.evolution.ranking import (
         crowding_distance as crowding_distance,
     )
@@ -242,18 +135,20 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.files.genome_file import (
         load_genome_and_metadata as load_genome_and_metadata,
     )
+
+    # files
     from mentor_core.files.genome_file import (
         save_genome as save_genome,
     )
+
+    # navigation
     from mentor_core.navigation.grid import (
         OccupancyGrid as OccupancyGrid,
     )
     from mentor_core.navigation.grid import (
         world_grid as world_grid,
     )
-    from mentor_core.navigation.grid_planner import (
-        GridPlanner as GridPlanner,
-    )
+    from mentor_core.navigation.grid_planner import GridPlanner as GridPlanner
     from mentor_core.navigation.guide import (
         GuideConfig as GuideConfig,
     )
@@ -263,30 +158,18 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.navigation.guide import (
         guide_config as guide_config,
     )
-    from mentor_core.navigation.map_file import (
-        load_map as load_map,
-    )
-    from mentor_core.navigation.map_file import (
-        save_map as save_map,
-    )
-    from mentor_core.navigation.map_world import (
-        load_world_file as load_world_file,
-    )
-    from mentor_core.navigation.scan_map import (
-        scan_guide_config as scan_guide_config,
-    )
-    from mentor_core.objectives.complexity import (
-        flops_ratio as flops_ratio,
-    )
-    from mentor_core.objectives.experience import (
-        experience_gain as experience_gain,
-    )
-    from mentor_core.objectives.performance import (
-        performance as performance,
-    )
-    from mentor_core.report.markdown import (
-        write_report as write_report,
-    )
+    from mentor_core.navigation.map_file import load_map as load_map
+    from mentor_core.navigation.map_file import save_map as save_map
+    from mentor_core.navigation.map_world import load_world_file as load_world_file
+    from mentor_core.navigation.scan_map import scan_guide_config as scan_guide_config
+    from mentor_core.objectives.complexity import flops_ratio as flops_ratio
+    from mentor_core.objectives.experience import experience_gain as experience_gain
+
+    # objectives
+    from mentor_core.objectives.performance import performance as performance
+
+    # report
+    from mentor_core.report.markdown import write_report as write_report
     from mentor_core.runtime.goal_intake import (
         Bounds as Bounds,
     )
@@ -314,6 +197,8 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.runtime.planner import (
         DecisionGate as DecisionGate,
     )
+
+    # runtime
     from mentor_core.runtime.planner import (
         GenomePlanner as GenomePlanner,
     )
@@ -329,12 +214,8 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.runtime.planner import (
         genome_control_period as genome_control_period,
     )
-    from mentor_core.runtime.planner_frames import (
-        PlannerFrames as PlannerFrames,
-    )
-    from mentor_core.runtime.recording import (
-        EpisodeRecorder as EpisodeRecorder,
-    )
+    from mentor_core.runtime.planner_frames import PlannerFrames as PlannerFrames
+    from mentor_core.runtime.recording import EpisodeRecorder as EpisodeRecorder
     from mentor_core.runtime.robot_graph import (
         RobotPlanner as RobotPlanner,
     )
@@ -371,9 +252,7 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.runtime.scenario_plan import (
         source_map as source_map,
     )
-    from mentor_core.runtime.session_config import (
-        ContinuousConfig as ContinuousConfig,
-    )
+    from mentor_core.runtime.session_config import ContinuousConfig as ContinuousConfig
     from mentor_core.runtime.sim_session import (
         Outcome as Outcome,
     )
@@ -392,9 +271,7 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.runtime.simulator import (
         ReferenceSimulator as ReferenceSimulator,
     )
-    from mentor_core.runtime.wiring import (
-        Wiring as Wiring,
-    )
+    from mentor_core.runtime.wiring import Wiring as Wiring
     from mentor_core.sim.frames import (
         MAP_FRAME as MAP_FRAME,
     )
@@ -407,9 +284,7 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.sim.frames import (
         yaw_to_quaternion as yaw_to_quaternion,
     )
-    from mentor_core.sim.lidar import (
-        LidarSpec as LidarSpec,
-    )
+    from mentor_core.sim.lidar import LidarSpec as LidarSpec
     from mentor_core.sim.observation import (
         action_from_twist as action_from_twist,
     )
@@ -437,6 +312,8 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.sim.robot_description import (
         robot_urdf as robot_urdf,
     )
+
+    # sim
     from mentor_core.sim.robots import (
         RobotProfile as RobotProfile,
     )
@@ -479,18 +356,14 @@ if TYPE_CHECKING:  # the same names, for type checkers
     from mentor_core.sim.world import (
         save_world as save_world,
     )
-    from mentor_core.training.assessment import (
-        assess as assess,
-    )
+    from mentor_core.training.assessment import assess as assess
+
+    # training
     from mentor_core.training.config import (
         TrainerConfig as TrainerConfig,
     )
     from mentor_core.training.config import (
         load_config_file as load_config_file,
     )
-    from mentor_core.training.problem import (
-        NavigationProblem as NavigationProblem,
-    )
-    from mentor_core.training.trainer import (
-        train as train,
-    )
+    from mentor_core.training.problem import NavigationProblem as NavigationProblem
+    from mentor_core.training.trainer import train as train

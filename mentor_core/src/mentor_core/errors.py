@@ -6,6 +6,7 @@ can print ``str(err)`` and exit non-zero.
 
 from __future__ import annotations
 
+import reprlib
 from pathlib import Path
 from typing import TypeGuard
 
@@ -63,3 +64,18 @@ def one_line(err: BaseException) -> str:
     """``str(err)`` on one line (every run of whitespace, newlines included, one space), for a
     fault quoted inside a one-line error message."""
     return " ".join(str(err).split())
+
+
+_REPR_MAX = 60
+_REPR = reprlib.Repr()
+_REPR.maxstring = _REPR.maxother = _REPR.maxlong = _REPR_MAX
+
+
+def short_repr(value: object) -> str:
+    """``repr(value)`` cut to :data:`_REPR_MAX` characters, built within that bound (a value
+    may be huge: reprlib shows only the first items of each level)."""
+    try:
+        text = _REPR.repr(value)
+    except (ValueError, RecursionError):  # an int past Python's 4300 digits
+        text = f"<{type(value).__name__}>"
+    return text if len(text) <= _REPR_MAX else text[: _REPR_MAX - 3] + "..."

@@ -38,7 +38,8 @@ from mentor_core.runtime.planner import (
 )
 from mentor_core.sim.decision_split import at_control_period
 from mentor_core.sim.episode import InputGoals, Policy
-from mentor_core.sim.robots import RobotProfile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.view_corridor import set_view_margin
 from mentor_core.sim.world import Scenario
 from mentor_core.training.assessment import check_compatible

@@ -48,7 +48,8 @@ from mentor_core.navigation.pairs import (
     world_with_pairs,
 )
 from mentor_core.sim.families import FAMILIES
-from mentor_core.sim.robots import RobotProfile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.config import shipped_config
 

@@ -90,7 +90,8 @@ from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.robot_graph import one_period
 from mentor_core.runtime.simulator import Decide
 from mentor_core.sim.decision_split import at_control_period
-from mentor_core.sim.robots import RobotProfile, get_profile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import sample_scenarios, sample_world, start_overlap
 from mentor_core.sim.view_corridor import set_view_margin
 from mentor_core.sim.world import Scenario, World

@@ -70,7 +70,7 @@ class GoalDistance:
         """``(m, 2)`` where the shortest way from each point heads first (m): the goal when
         the point sees into its disc, else the first corner of the way round; NaN where the
         distance is ``inf``. A cost-to-go expert's next target from anywhere in the free
-        space (``benchmarks/imitation_ceiling.py``)."""
+        space (``benchmarks/probes/imitation_ceiling.py``)."""
         return self.distances_and_waypoints(points)[1]
 
     def distances_and_waypoints(self, points: ArrayLike) -> tuple[FloatArray, FloatArray]:

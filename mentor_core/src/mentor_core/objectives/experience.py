@@ -22,7 +22,7 @@ Methods:
     "numpy"    pure numpy Prim (one vectorised distance row per step); the fallback and the
                reference the tests compare the kernels with.
     "auto"     "bounded" when numba imports, else "numpy". Measured with
-               benchmarks/experience_bench.py: at the trainer's <= 4,000 points in 8-18 D
+               benchmarks/perf/experience_bench.py: at the trainer's <= 4,000 points in 8-18 D
                "bounded" is about 1.6x "prim" (1-3x, most where experiences repeat) and
                kd-tree boxes prune little (the actions make the points truly
                high-dimensional); "boruvka" wins on sensor-like data from about 16,000 points.

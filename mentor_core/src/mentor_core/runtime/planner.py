@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.errors import ConfigError
+from mentor_core.errors import ConfigError, short_repr
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
@@ -62,18 +62,17 @@ from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.sim import observation
 from mentor_core.sim.collision_guard import CollisionGuard
 from mentor_core.sim.decision_split import at_control_period
+from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import (
     ROBOTS_ENV,
     RobotProfile,
     get_profile,
     load_profiles,
     sensor_record,
-    with_planner,
 )
 from mentor_core.sim.rotation_shim import rotation_shim
 from mentor_core.sim.turn_gain import turn_gain
 from mentor_core.sim.view_corridor import set_view_margin
-from mentor_core.validation import short_repr
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]

@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from mentor_core.errors import MentorError
-from mentor_core.validation import short_repr, yaml_value
+from mentor_core.errors import MentorError, short_repr
+from mentor_core.validation import yaml_value
 
 _SCALARS = (str, int, float, bool)
 _FLAGS = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}

@@ -177,7 +177,7 @@ def _broad_phase_loop(
         out[i] = hit
 
 
-def _box_arrays(boxes: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+def box_arrays(boxes: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Box centres and half extents ``(cx, cy, hx, hy)``, each ``(k,)``."""
     b = np.asarray(boxes, dtype=np.float64).reshape(-1, 4)
     return (
@@ -198,7 +198,7 @@ def _collides_numpy(
     ex = a * ac + b * as_
     ey = a * as_ + b * ac
     hit = (x - ex < 0.0) | (x + ex > size) | (y - ey < 0.0) | (y + ey > size)
-    cx, cy, hx, hy = _box_arrays(boxes)
+    cx, cy, hx, hy = box_arrays(boxes)
     if cx.shape[0] == 0:
         return hit
     chunk = max(1, NUMPY_CHUNK_ELEMENTS // cx.shape[0])
@@ -394,7 +394,7 @@ def first_collisions(
     size = float(world.size)
     if _use_numba(backend) and _first_hit_numba is not None:
         out = np.empty(off.shape[0] - 1, dtype=np.int64)
-        _first_hit_numba(x, y, c, s, off, a, b, *_box_arrays(world.obstacles), size, out)
+        _first_hit_numba(x, y, c, s, off, a, b, *box_arrays(world.obstacles), size, out)
         return out
     hit = _collides_numpy(x, y, c, s, a, b, np.asarray(world.obstacles), size)
     j = np.arange(p.shape[0], dtype=np.int64)
@@ -432,7 +432,7 @@ def swept_events(
         end = np.empty((n.shape[0], 3), dtype=np.float64)
         _events_numba(
             p, dth, dist, n, g, radius, 0.5 * float(profile.length), 0.5 * float(profile.width),
-            *_box_arrays(world.obstacles), float(world.size), event, stop, end,
+            *box_arrays(world.obstacles), float(world.size), event, stop, end,
         )
         return event, stop, end
     samples, offsets = swept_samples(p, dth, dist, n)
@@ -491,33 +491,3 @@ def swept_collision(
     samples, offsets = swept_samples(p[near], dth[near], dist[near], counts)
     out[near] = first_collisions(samples, offsets, profile, world, backend=backend)
     return out
-
-
-def separation_margin(poses: ArrayLike, profile: RobotProfile, world: World) -> FloatArray:
-    """Signed clearance proxy (m) per pose ``(n,)``: negative iff the body collides.
-
-    For each box the largest separating-axis gap ``|d . axis| - radii``, for each wall the
-    signed gap to it; the minimum over boxes and walls. Zero marks a touching configuration,
-    which the physics-agreement tests stay away from.
-    """
-    p = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    c = np.cos(p[:, 2])[:, None]
-    s = np.sin(p[:, 2])[:, None]
-    ac, as_ = np.abs(c), np.abs(s)
-    a = 0.5 * float(profile.length)
-    b = 0.5 * float(profile.width)
-    ex = a * ac + b * as_
-    ey = a * as_ + b * ac
-    x, y = p[:, 0, None], p[:, 1, None]
-    walls = np.minimum(np.minimum(x - ex, world.size - (x + ex)),
-                       np.minimum(y - ey, world.size - (y + ey)))[:, 0]
-    cx, cy, hx, hy = _box_arrays(world.obstacles)
-    if cx.shape[0] == 0:
-        return np.asarray(walls, dtype=np.float64)
-    dx, dy = x - cx, y - cy
-    gaps = np.maximum(
-        np.maximum(np.abs(dx) - (ex + hx), np.abs(dy) - (ey + hy)),
-        np.maximum(np.abs(dx * c + dy * s) - (a + (hx * ac + hy * as_)),
-                   np.abs(dy * c - dx * s) - (b + (hx * as_ + hy * ac))),
-    )
-    return np.asarray(np.minimum(walls, gaps.min(axis=1)), dtype=np.float64)

@@ -5,7 +5,7 @@ Not in the paper. A planner trained to decide every ``T`` s with steps of up to 
 of up to ``h`` is run deciding every ``T' = T / k`` s with steps of up to ``s / k`` (and its
 smallest step ``/ k``) and turns of up to ``h / k``: the same pace and the same turn rate, so
 the robot drives the speeds it was trained to and a scenario's time budget holds ``k`` times
-as many decisions (:func:`~mentor_core.sim.robots.with_planner`). The network reads the
+as many decisions (:func:`~mentor_core.sim.planner_settings.with_planner`). The network reads the
 world ``k`` times as often; one that turns its full limit at nearly every decision, as the
 evolved planners do, weaves ``k`` times less wide about its way.
 
@@ -19,7 +19,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from mentor_core.errors import ConfigError
-from mentor_core.sim.robots import RobotProfile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile
 
 
 def at_control_period(

@@ -3,7 +3,7 @@ and network outputs into actions. The trainer, the planner node and the tests al
 
 Network inputs, ``k + 3`` of them (``k`` = number of range sensors), in one of the two
 encodings a profile carries (``RobotProfile.input_encoding``, set from the training config or
-the genome's metadata by ``robots.with_planner``):
+the genome's metadata by ``planner_settings.with_planner``):
 
 ``"paper"`` (paper, section III-B)::
 

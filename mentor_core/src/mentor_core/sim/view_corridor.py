@@ -33,7 +33,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mentor_core.sim.kinematics import to_body
-from mentor_core.sim.robots import RobotProfile, with_planner
+from mentor_core.sim.planner_settings import with_planner
+from mentor_core.sim.robots import RobotProfile
 
 FloatArray = NDArray[np.float64]
 
@@ -69,7 +70,7 @@ def set_view_margin(
 ) -> RobotProfile:
     """``profile`` with a view corridor of ``margin`` m: None keeps the profile's own, ``inf``
     (everything lies within it) removes any, a positive number replaces it; ConfigError naming
-    ``source`` for any other (:func:`~mentor_core.sim.robots.with_planner`)."""
+    ``source`` for any other (:func:`~mentor_core.sim.planner_settings.with_planner`)."""
     if margin is None:
         return profile
     if margin == math.inf:

@@ -30,7 +30,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from mentor_core.errors import ConfigError
+from mentor_core.errors import ConfigError, short_repr
 from mentor_core.evolution.config import EvolutionConfig, Robot
 from mentor_core.evolution.loop import Mode
 from mentor_core.sim.families import family_names_fault
@@ -48,7 +48,6 @@ from mentor_core.validation import (
     json_schema,
     merge_mappings,
     read_yaml_extending,
-    short_repr,
     to_plain,
     validate,
     yaml_value,
@@ -140,7 +139,7 @@ class TrainerConfig:
     step_max: Annotated[Float, Field(gt=0.0)] | None = None
     """The planner's largest step per decision, m, between the robot's step_min and step_max
     (null: the robot's, as in the paper); the time budgets follow it
-    (mentor_core.sim.robots.with_planner); also written into the metadata."""
+    (mentor_core.sim.planner_settings.with_planner); also written into the metadata."""
     step_min: Annotated[Float, Field(ge=0.0)] | None = None
     """The planner's smallest step, m, in [0, step_max] (null: the robot's, 0.1 m as in the
     paper); also written into the metadata."""
@@ -176,8 +175,8 @@ class TrainerConfig:
     its pace (step_max per period) and turn rate within the robot's (null: the robot's period,
     1 s as in the paper). The decisions are the same; only the time they take changes: a
     time budget holds the same number of decisions when the config sets none (its rated speed
-    follows, mentor_core.sim.robots.with_planner), and ``time_budget`` is in seconds. Also
-    written into the metadata."""
+    follows, mentor_core.sim.planner_settings.with_planner), and ``time_budget`` is in
+    seconds. Also written into the metadata."""
     novelty_neighbours: Annotated[Int, Field(ge=1)] | None = None
     """When set, novelty search's sparseness over this many nearest behaviours (the final
     positions in every training scenario; mentor_core.objectives.novelty) is ranked as a third
@@ -223,7 +222,7 @@ class TrainerConfig:
 
     def planner_settings(self) -> dict[str, Any]:
         """The planner settings a network trained with this config acts with, as
-        ``mentor_core.sim.robots.with_planner``'s keyword arguments (angles in rad; None:
+        ``mentor_core.sim.planner_settings.with_planner``'s keyword arguments (angles in rad; None:
         the robot's own)."""
         turn, shim = self.heading_change_max_deg, self.rotation_shim_deg
         return {
