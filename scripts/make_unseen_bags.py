@@ -1,4 +1,4 @@
-"""Write ``bags/unseen/{ugv,swarm}``: the unseen test environments (paper section IV-C).
+"""Write ``bags/unseen/{ugv,swarm}``: the unseen test environments (paper section IV-D).
 
     .venv/bin/python scripts/make_unseen_bags.py [--out bags/unseen] [--overwrite]
 

@@ -10,9 +10,11 @@ export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-42}"
 export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
 echo "== ruff" >&2
-.venv/bin/ruff check mentor_core tests benchmarks scripts mentor_sim_node mentor_planner_node
+.venv/bin/ruff check mentor_core tests benchmarks scripts mentor_sim_node mentor_planner_node \
+  mentor_ros_common
 echo "== lint-imports (the import contracts of docs/architecture.md, in pyproject.toml)" >&2
-PYTHONPATH="$ROOT/mentor_sim_node:$ROOT/mentor_planner_node" .venv/bin/lint-imports --no-cache
+PYTHONPATH="$ROOT/mentor_sim_node:$ROOT/mentor_planner_node:$ROOT/mentor_ros_common" \
+  .venv/bin/lint-imports --no-cache
 echo "== mypy --strict mentor_core" >&2
 .venv/bin/mypy --strict mentor_core/src/mentor_core
 echo "== pytest" >&2

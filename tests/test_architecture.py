@@ -17,6 +17,8 @@ import mentor_core
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "mentor_core" / "src"
 LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
+#: the ROS 2 packages: both nodes and what they share
+NODE_PACKAGES = ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common")
 WINGS = (
     "evolution", "sim", "objectives", "files", "navigation", "training", "runtime", "benchmark",
     "report", "cli",
@@ -27,7 +29,7 @@ def _lint_imports(tree: Path) -> subprocess.CompletedProcess[str]:
     """lint-imports with the repository's contracts over a copy of the three packages."""
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(
-        str(tree / d) for d in ("src", "mentor_sim_node", "mentor_planner_node")
+        str(tree / d) for d in ("src", *NODE_PACKAGES)
     )
     return subprocess.run(
         [str(LINT_IMPORTS), "--no-cache", str(ROOT / "pyproject.toml")],
@@ -40,7 +42,7 @@ def tree_copy(tmp_path_factory: pytest.TempPathFactory) -> Path:
     tree = tmp_path_factory.mktemp("layout")
     ignore = shutil.ignore_patterns("__pycache__", "*.egg-info")
     shutil.copytree(SRC / "mentor_core", tree / "src" / "mentor_core", ignore=ignore)
-    for node in ("mentor_sim_node", "mentor_planner_node"):
+    for node in NODE_PACKAGES:
         shutil.copytree(ROOT / node / node, tree / node / node, ignore=ignore)
     return tree
 

@@ -4,27 +4,20 @@ from __future__ import annotations
 
 import json
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+import ros_support  # noqa: F401  (puts the node packages on sys.path)
+from geometry_msgs.msg import Twist, Vector3
+from rclpy.serialization import deserialize_message, serialize_message
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import String
 
-ROOT = Path(__file__).resolve().parents[1]
-for pkg in ("mentor_sim_node", "mentor_planner_node"):
-    if str(ROOT / pkg) not in sys.path:
-        sys.path.insert(0, str(ROOT / pkg))
-
-from geometry_msgs.msg import Twist, Vector3  # noqa: E402
-from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
-from sensor_msgs.msg import LaserScan  # noqa: E402
-from std_msgs.msg import String  # noqa: E402
-
-from mentor_core.sim.observation import network_inputs  # noqa: E402
-from mentor_core.sim.robots import RobotProfile, get_profile  # noqa: E402
-from mentor_core.sim.world import World  # noqa: E402
-from mentor_planner_node import conversions as planner  # noqa: E402
-from mentor_sim_node import conversions as sim  # noqa: E402
+from mentor_core.sim.observation import network_inputs
+from mentor_core.sim.robots import RobotProfile, get_profile
+from mentor_core.sim.world import World
+from mentor_planner_node import conversions as planner
+from mentor_sim_node import conversions as sim
 
 
 @pytest.fixture

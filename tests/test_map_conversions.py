@@ -15,6 +15,7 @@ from rclpy.serialization import deserialize_message, serialize_message
 from mentor_core.navigation.grid import UNKNOWN, OccupancyGrid
 from mentor_core.runtime.guided_planner import wire_grid
 from mentor_planner_node import conversions as planner_conv
+from mentor_ros_common.messages import occupancy_grid_msg
 
 
 def _grid(yaw: float = 0.0) -> OccupancyGrid:
@@ -28,7 +29,7 @@ def _grid(yaw: float = 0.0) -> OccupancyGrid:
 @pytest.mark.parametrize("yaw", [0.0, 0.7])
 def test_the_published_map_reads_back_as_the_wire_grid(yaw: float) -> None:
     grid = _grid(yaw)
-    msg = planner_conv.occupancy_grid_msg(grid, Time(sec=3))
+    msg = occupancy_grid_msg(grid, Time(sec=3))
     assert msg.header.frame_id == "map" and (msg.info.width, msg.info.height) == (4, 3)
     assert list(msg.data[:4]) == [0, 0, 0, 100]  # row 0 (at the origin) first
     wire = deserialize_message(serialize_message(msg), OccupancyGridMsg)  # as DDS carries it
@@ -41,15 +42,15 @@ def test_the_published_map_reads_back_as_the_wire_grid(yaw: float) -> None:
 
 
 def test_bad_maps_are_refused() -> None:
-    msg = planner_conv.occupancy_grid_msg(_grid(), frame_id="odom")  # a scan map's frame
+    msg = occupancy_grid_msg(_grid(), frame_id="odom")  # a scan map's frame
     assert msg.header.frame_id == "odom"
     with pytest.raises(ValueError, match="map frame 'odom'"):
         planner_conv.grid_from_occupancy_grid(msg)
-    msg = planner_conv.occupancy_grid_msg(_grid())
+    msg = occupancy_grid_msg(_grid())
     msg.info.width = 5
     with pytest.raises(ValueError, match="12 cells for 5 x 3"):
         planner_conv.grid_from_occupancy_grid(msg)
-    msg = planner_conv.occupancy_grid_msg(_grid())
+    msg = occupancy_grid_msg(_grid())
     msg.info.origin.position.x = math.nan
     with pytest.raises(ValueError, match="not finite"):
         planner_conv.grid_from_occupancy_grid(msg)

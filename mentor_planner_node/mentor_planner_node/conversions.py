@@ -10,7 +10,8 @@ clips +inf to the sensor range; nothing here changes a reading.
 With a global plan it also reads a ``nav_msgs/OccupancyGrid`` (the map to plan on) and
 ``nav_msgs/Path`` (a path to follow), both in ``map``, and writes the path it follows as a
 ``nav_msgs/Path``; with a scan map it writes that map as a ``nav_msgs/OccupancyGrid``
-(:func:`occupancy_grid_msg`, which the simulator node's ``/map`` uses too).
+(``mentor_ros_common.messages.occupancy_grid_msg``, which the simulator node's ``/map`` uses
+too).
 """
 
 from __future__ import annotations
@@ -25,13 +26,12 @@ from geometry_msgs.msg import (
     Point,
     Pose,
     PoseStamped,
-    Quaternion,
     TransformStamped,
     Twist,
     Vector3,
 )
-from nav_msgs.msg import MapMetaData, Odometry, Path
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
+from nav_msgs.msg import Odometry, Path
 from numpy.typing import ArrayLike, NDArray
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Header, String
@@ -47,9 +47,9 @@ from mentor_core import (
     planar_transform,
     quaternion_to_yaw,
     scan_geometry,
-    yaw_to_quaternion,
 )
 from mentor_core import twist_from_action as _twist_from_action
+from mentor_ros_common.messages import quaternion_msg
 
 if TYPE_CHECKING:
     from mentor_core import Bounds, RobotProfile
@@ -228,30 +228,6 @@ def path_from_msg(msg: Path) -> NDArray[np.float64]:
     if not np.isfinite(points).all():
         raise ValueError("path holds a non-finite point")
     return points
-
-
-def quaternion_msg(yaw: float) -> Quaternion:
-    """``geometry_msgs/Quaternion`` of a heading (rad) about z."""
-    qx, qy, qz, qw = yaw_to_quaternion(yaw)
-    return Quaternion(x=qx, y=qy, z=qz, w=qw)
-
-
-def occupancy_grid_msg(
-    grid: OccupancyGrid, stamp: Time | None = None, frame_id: str = MAP_FRAME
-) -> OccupancyGridMsg:
-    """``nav_msgs/OccupancyGrid`` of a grid in ``frame_id`` (default ``map``): row-major from
-    the origin's row (-1 unknown, 0 free .. 100 occupied); the resolution travels as a
-    float32 (the inverse of :func:`grid_from_occupancy_grid`)."""
-    x, y, yaw = grid.origin
-    header = Header(stamp=stamp if stamp is not None else Time(), frame_id=frame_id)
-    info = MapMetaData(
-        map_load_time=header.stamp,
-        resolution=float(grid.resolution),
-        width=grid.width,
-        height=grid.height,
-        origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=quaternion_msg(yaw)),
-    )
-    return OccupancyGridMsg(header=header, info=info, data=grid.data.reshape(-1).tolist())
 
 
 def path_msg(points: ArrayLike, stamp: Time, frame_id: str = MAP_FRAME) -> Path:

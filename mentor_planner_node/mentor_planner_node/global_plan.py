@@ -54,6 +54,7 @@ from mentor_core import (
     scan_guide_config,
 )
 from mentor_planner_node import conversions
+from mentor_ros_common.messages import occupancy_grid_msg
 
 WARN_EVERY_S = 5.0
 #: s (node clock) between two publications of a scan map whose plan has not changed
@@ -220,7 +221,7 @@ class GlobalPlan:
             return
         self._map_sent = now_ns
         grid = planner.scan.map.grid()
-        self._map_pub.publish(conversions.occupancy_grid_msg(grid, stamp, frame))
+        self._map_pub.publish(occupancy_grid_msg(grid, stamp, frame))
 
     def _on_map(self, msg: OccupancyGridMsg) -> None:
         try:

@@ -61,12 +61,12 @@ from mentor_core import (
     readings_from_scan,
 )
 from mentor_planner_node import conversions, global_plan
-from mentor_planner_node.node_main import run_node
 from mentor_planner_node.params import (
     PlannerSetupError,
     check_goal_radius,
     declare_parameters,
 )
+from mentor_ros_common.node_main import run_node
 
 try:  # a full ROS 2 install has tf2_ros; the pip-only one has no wheel
     from tf2_ros import Buffer, TransformException, TransformListener

@@ -49,7 +49,7 @@ from mentor_core import (
     box_markers,
     scan_geometry,
 )
-from mentor_planner_node.conversions import quaternion_msg
+from mentor_ros_common.messages import quaternion_msg
 
 if TYPE_CHECKING:
     from mentor_core import FrameLink, LidarSpec, RobotProfile, World

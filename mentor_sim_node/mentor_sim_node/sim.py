@@ -39,8 +39,8 @@ from mentor_core import (
     load_scenario_source,
     source_map,
 )
-from mentor_planner_node.conversions import occupancy_grid_msg
-from mentor_planner_node.node_main import run_node
+from mentor_ros_common.messages import occupancy_grid_msg
+from mentor_ros_common.node_main import run_node
 from mentor_sim_node import conversions
 from mentor_sim_node.params import SimSetupError, check_runtime, declare_parameters
 from mentor_sim_node.topics import QOS_COMMAND, QOS_LATCHED, Topics, subscribe_goals

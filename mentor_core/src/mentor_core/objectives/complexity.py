@@ -1,6 +1,6 @@
 """Complexity criterion: estimated FLOPs of one forward pass, relative to the minimal network.
 
-Paper, section II: the approximate number of floating-point operations a topology needs to
+Paper, section III-E: the approximate number of floating-point operations a topology needs to
 map the input vector to the output, counting both connectivity and the nonlinearity of the
 activations, scaled by that of the simplest topology (inputs wired to outputs, no hidden
 node).

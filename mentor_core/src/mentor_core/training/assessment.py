@@ -1,4 +1,4 @@
-"""Test on unseen environments (paper section IV-C).
+"""Test on unseen environments (paper section IV-D).
 
 Each planner runs once on each start/goal pair. As in the paper's test, an episode ends when
 the robot comes within the goal radius (1 m for the UGV, scaled for the Swarm-Robot), when the

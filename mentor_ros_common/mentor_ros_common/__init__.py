@@ -1,0 +1,1 @@
+"""What both MENTOR nodes share: their ``main`` and the ROS messages both of them build."""
