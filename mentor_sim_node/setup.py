@@ -26,7 +26,6 @@ setup(
     entry_points={
         "console_scripts": [
             "sim = mentor_sim_node.sim:main",
-            "demo = mentor_sim_node.demo:main",
         ]
     },
 )

@@ -55,7 +55,7 @@ fi
 # Build the ROS 2 workspace when a node package changed since the last build.
 WS="$ROOT/ros2_ws"
 WSTAMP="$WS/install/.mentor-stamp"
-wwant="$(cd "$ROOT" && find mentor_sim_node mentor_planner_node mentor_ros_common -type f \
+wwant="$(cd "$ROOT" && find mentor_sim_node mentor_planner_node mentor_ros_common mentor_bringup -type f \
   -not -path '*/__pycache__/*' -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)"
 if [ "$(cat "$WSTAMP" 2>/dev/null)" != "$wwant" ]; then
   echo "bootstrap: building the colcon workspace ros2_ws/" >&2
@@ -67,7 +67,7 @@ if [ "$(cat "$WSTAMP" 2>/dev/null)" != "$wwant" ]; then
     { cat "$blog" >&2; echo "bootstrap: colcon build failed; see ros2_ws/log/latest_build" >&2
       exit 1; }
   rm -f "$blog"
-  for pkg in mentor_sim_node mentor_planner_node mentor_ros_common; do
+  for pkg in mentor_sim_node mentor_planner_node mentor_ros_common mentor_bringup; do
     [ -d "$WS/install/$pkg" ] ||
       { echo "bootstrap: colcon built no $pkg (is ros2_ws/src/$pkg a symlink?)" >&2; exit 1; }
   done

@@ -32,11 +32,12 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-for pkg in ("mentor_sim_node", "mentor_planner_node"):
+for pkg in ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "mentor_bringup"):
     sys.path.insert(0, str(ROOT / pkg))
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 os.environ.setdefault("ROS_DOMAIN_ID", "43")
 
+from mentor_bringup.demo import run_graph  # noqa: E402
 from mentor_core.files.bags import read_episode_bag, write_scenario_bag  # noqa: E402
 from mentor_core.runtime.planner import GenomePlanner  # noqa: E402
 from mentor_core.runtime.recording import recorded_episodes  # noqa: E402
@@ -44,7 +45,6 @@ from mentor_core.runtime.simulator import RobotSetup, run_reference_episode  # n
 from mentor_core.sim.robots import get_profile  # noqa: E402
 from mentor_core.sim.scenarios import training_scenarios  # noqa: E402
 from mentor_core.sim.world import Scenario  # noqa: E402
-from mentor_sim_node.demo import run_graph  # noqa: E402
 
 SCENARIO_SEED = 0
 CANDIDATES = 20

@@ -11,9 +11,9 @@ export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-42}"
 export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
 echo "== ruff" >&2
 .venv/bin/ruff check mentor_core tests benchmarks scripts mentor_sim_node mentor_planner_node \
-  mentor_ros_common
+  mentor_ros_common mentor_bringup
 echo "== lint-imports (the import contracts of docs/architecture.md, in pyproject.toml)" >&2
-PYTHONPATH="$ROOT/mentor_sim_node:$ROOT/mentor_planner_node:$ROOT/mentor_ros_common" \
+PYTHONPATH="$ROOT/mentor_sim_node:$ROOT/mentor_planner_node:$ROOT/mentor_ros_common:$ROOT/mentor_bringup" \
   .venv/bin/lint-imports --no-cache
 echo "== mypy --strict mentor_core" >&2
 .venv/bin/mypy --strict mentor_core/src/mentor_core

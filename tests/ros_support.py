@@ -19,7 +19,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 INSTALL = ROOT / "ros2_ws" / "install"
 REGRESSION = ROOT / "bags" / "regression"
-for _pkg in ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common"):
+for _pkg in ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "mentor_bringup"):
     if str(ROOT / _pkg) not in sys.path:
         sys.path.insert(0, str(ROOT / _pkg))
 

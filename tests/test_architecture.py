@@ -17,8 +17,8 @@ import mentor_core
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "mentor_core" / "src"
 LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
-#: the ROS 2 packages: both nodes and what they share
-NODE_PACKAGES = ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common")
+#: the ROS 2 packages: both nodes, what they share and the demo that runs them together
+NODE_PACKAGES = ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "mentor_bringup")
 WINGS = (
     "evolution", "sim", "objectives", "files", "navigation", "training", "runtime", "benchmark",
     "report", "cli",

@@ -154,7 +154,7 @@ def test_robots_of_both_kinds_share_a_world_through_ros(graph: Graph) -> None:
 def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(
     tmp_path: Path, mode: list[str]
 ) -> None:
-    exe = ROOT / "ros2_ws/install/mentor_sim_node/lib/mentor_sim_node/demo"
+    exe = ROOT / "ros2_ws/install/mentor_bringup/lib/mentor_bringup/demo"
     assert exe.is_file(), "run `bash scripts/bootstrap.sh` first"
     env = workspace_env()
     proc = subprocess.run(
@@ -173,7 +173,7 @@ def test_the_demo_runs_the_shipped_planners_of_both_robots_together_in_continuou
 ) -> None:
     """The shipped UGV planners decide every 0.5 s, the Swarm-Robot's every 1 s: lockstep
     refuses them together (one line naming the way out), the continuous mode runs them."""
-    exe = ROOT / "ros2_ws/install/mentor_sim_node/lib/mentor_sim_node/demo"
+    exe = ROOT / "ros2_ws/install/mentor_bringup/lib/mentor_bringup/demo"
     env = workspace_env()
     shipped = ["--genome", f"ugv={ROOT / 'planners/ugv-paper-dual-s1.json'}",
                "--genome", f"swarm={ROOT / 'planners/swarm-paper-dual-s1.json'}"]

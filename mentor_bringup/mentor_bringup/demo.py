@@ -1,7 +1,7 @@
 """One command for a demo: the simulator and one planner per robot, in one process.
 
-    ros2 run mentor_sim_node demo                                   # ROS 2 Jazzy installed
-    ros2_ws/install/mentor_sim_node/lib/mentor_sim_node/demo        # pip-only machine
+    ros2 run mentor_bringup demo                                    # ROS 2 Jazzy installed
+    ros2_ws/install/mentor_bringup/lib/mentor_bringup/demo          # pip-only machine
 
 No ``launch`` needed: the nodes share one process and one executor. It is single-threaded on
 purpose: the nodes are light (a step is a few pymunk queries and a small network), Python's
