@@ -10,6 +10,8 @@ import signal
 from pathlib import Path
 from typing import Any
 
+import yaml
+
 #: a dual-stage Swarm-Robot run of seconds: 6 genomes x 3 generations on 3 scenarios
 TINY = {
     "robot": "swarm",
@@ -19,6 +21,32 @@ TINY = {
     "n_scenarios": 3,
     "evolution": {"population_size": 6},
 }
+
+
+#: the shipped quick Swarm-Robot config, which :func:`tiny_config` shrinks
+QUICK = (
+    Path(__file__).resolve().parents[1]
+    / "mentor_core/src/mentor_core/configs/train_swarm_quick.yaml"
+)
+
+
+def tiny_config(folder: Path) -> Path:
+    """The quick Swarm-Robot config shrunk to a run of about a second (8 genomes x 3
+    generations on 3 scenarios), written to ``folder/tiny.yaml``: the runs the fault tests
+    stop and resume."""
+    data = yaml.safe_load(QUICK.read_text())
+    data.update(generations=3, stage1_generations=1, n_scenarios=3)
+    data["evolution"]["population_size"] = 8
+    path = folder / "tiny.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def train_argv(config: Path, framework: str, out: Path, *extra: str) -> list[str]:
+    """mentor-train's arguments for a Swarm-Robot run of ``config`` (seed 5, quiet) into
+    ``out``."""
+    return ["--robot", "swarm", "--framework", framework, "--config", str(config),
+            "--seed", "5", "--quiet", "--out", str(out), *extra]  # fmt: skip
 
 
 def sigint_as_in_a_terminal() -> None:

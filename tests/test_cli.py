@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
+from cli_support import one_line, run
 
 from mentor_core.cli import draw, evaluate, train, xor
 from mentor_core.evolution.genome import Genome, genome_from_edges
@@ -43,20 +44,6 @@ def no_training(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(train, "train", refuse)
 
 
-def run(main: Callable[..., int], argv: Sequence[str]) -> int:
-    """The exit status of a command, whether it returns it or argparse exits."""
-    try:
-        return main(list(argv))
-    except SystemExit as stop:
-        return int(stop.code or 0)
-
-
-def one_line(capsys: pytest.CaptureFixture[str]) -> str:
-    err = capsys.readouterr().err
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    return lines[0]
 
 
 def homing_genome() -> Genome:

@@ -16,9 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from run_support import snapshot
-from test_run_faults import argv as train_argv
-from test_run_faults import tiny_config
+from run_support import snapshot, tiny_config, train_argv
 
 from mentor_core.cli import bench, evaluate
 from mentor_core.cli import train as train_cli

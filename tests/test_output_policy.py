@@ -20,6 +20,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from cli_support import one_line, run
 
 from mentor_core.cli import bench, evaluate, report, train
 from mentor_core.cli import outputs as outputs_module
@@ -42,24 +43,14 @@ ALIAS_BOMB = 'n_scenarios:\n  - &a ["x", "x", "x", "x", "x", "x", "x", "x", "x"]
 DEEP = "[" * 600 + "]" * 600  # about 600 levels: Python's recursion limit in PyYAML's composer
 
 
-def run(main: Callable[..., int], argv: Sequence[str]) -> int:
-    """The exit status of a command, whether it returns it or argparse exits."""
-    try:
-        return main([str(a) for a in argv])
-    except SystemExit as stop:
-        return int(stop.code or 0)
-
-
 def refused(
-    main: Callable[..., int], argv: Sequence[str], capsys: pytest.CaptureFixture[str]
+    main: Callable[..., int], argv: Sequence[object], capsys: pytest.CaptureFixture[str]
 ) -> str:
     """The one line on stderr of a command that exits 2."""
     status = run(main, argv)
-    err = capsys.readouterr().err
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert status == 2 and len(lines) == 1, err
-    return lines[0]
+    line = one_line(capsys)
+    assert status == 2, line
+    return line
 
 
 @pytest.fixture

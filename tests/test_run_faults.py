@@ -24,29 +24,14 @@ from pathlib import Path
 import fault_hook
 import numpy as np
 import pytest
-import yaml
-from run_support import sigint_as_in_a_terminal, snapshot
+from run_support import sigint_as_in_a_terminal, snapshot, tiny_config
+from run_support import train_argv as argv
 
 from mentor_core.cli import train as train_cli
 
 HOOK = Path(__file__).with_name("fault_hook.py")
-QUICK = Path(train_cli.__file__).parents[1] / "configs" / "train_swarm_quick.yaml"
 # the final phase: the last writes of a run (population.json onwards), 2 points each
 FINAL_POINTS = 8
-
-
-def tiny_config(folder: Path) -> Path:
-    data = yaml.safe_load(QUICK.read_text())
-    data.update(generations=3, stage1_generations=1, n_scenarios=3)
-    data["evolution"]["population_size"] = 8
-    path = folder / "tiny.yaml"
-    path.write_text(yaml.safe_dump(data))
-    return path
-
-
-def argv(config: Path, framework: str, out: Path, *extra: str) -> list[str]:
-    return ["--robot", "swarm", "--framework", framework, "--config", str(config),
-            "--seed", "5", "--quiet", "--out", str(out), *extra]  # fmt: skip
 
 
 class Reference:

@@ -93,13 +93,12 @@ def _check_expanded(root: Any) -> None:
     cycle; iterative, memoised per node, so an alias bomb costs its size, not its expansion."""
     size: dict[int, int] = {}
     depth: dict[int, int] = {}
-    stack: list[tuple[Any, bool]] = [(root, False)]
+    stack: list[tuple[Any, list[Any] | None]] = [(root, None)]  # (node, its children once open)
     open_nodes: set[int] = set()
     while stack:
-        node, done = stack.pop()
+        node, children = stack.pop()
         key = id(node)
-        children = _children(node)
-        if done:
+        if children is not None:
             open_nodes.discard(key)
             size[key] = 1 + sum(size[id(c)] for c in children)
             depth[key] = 1 + max((depth[id(c)] for c in children), default=0)
@@ -117,8 +116,9 @@ def _check_expanded(root: Any) -> None:
         if key in open_nodes:
             raise _too_much("an alias refers to a value that holds it", node)
         open_nodes.add(key)
-        stack.append((node, True))
-        stack.extend((c, False) for c in children if id(c) not in size)
+        children = _children(node)
+        stack.append((node, children))
+        stack.extend((c, None) for c in children if id(c) not in size)
 
 
 def _children(node: Any) -> list[Any]:

@@ -83,7 +83,7 @@ def check_folder(option: str, path: Path, inputs: Iterable[Path], force: bool) -
         raise OutputError(option, path, "is not a directory")
     if is_run_directory(path):
         raise OutputError(option, path, "is a training run directory; not writing there")
-    if path.is_dir() and (path / "metadata.yaml").is_file() and looks_like_bag(path):
+    if (path / "metadata.yaml").is_file():  # a rosbag2 bag (an empty folder is none here)
         raise OutputError(option, path, "is a rosbag2 bag; not writing there")
     if path.is_dir() and any(path.iterdir()) and not force:
         raise OutputError(option, path, "already exists and is not empty; pass --force to "

@@ -5,10 +5,11 @@ beyond the problem itself: ``g`` per genome (its genes, its ranking, its share o
 checkpoint's text) and ``s`` per genome and scenario (the batched episode's trajectories and
 readings). Peak resident memory of ``mentor-train --robot ugv --framework dual --config
 quick --set generations=2 --set stage1_generations=1 --set refinement.iterations=0`` on
-2026-12-05: 234 MB at N = 200, S = 10; 279 MB at N = 800, S = 10; 433 MB at N = 800, S = 40;
-so ``g`` is about 11 kB and ``s`` about 6.4 kB. The bound doubles both, for margin and for
-networks grown over a run, and refuses a run whose share would pass the machine's physical
-memory: ``population_size: 1e8`` is one line before any work, not a swap storm.
+2026-12-05 (experiment E085): 234 MB at N = 200, S = 10; 279 MB at N = 800, S = 10; 433 MB at
+N = 800, S = 40; so ``g`` is about 11 kB and ``s`` about 6.4 kB. The bound doubles both, for
+margin and for networks grown over a run, and refuses a run whose share would pass the
+machine's physical memory: ``population_size: 1e8`` is one line before any work, not a swap
+storm.
 """
 
 from __future__ import annotations

@@ -108,9 +108,9 @@ def _write_bag(
         raise WriteFault(target, err) from None
     try:
         _write_staged(staging, target, topics, out)
-    except OSError as err:
-        if isinstance(err, WriteFault):
-            raise
+    except WriteFault:
+        raise
+    except OSError as err:  # a full disk names no file
         raise WriteFault(target, err) from None
     finally:
         shutil.rmtree(staging, ignore_errors=True)
