@@ -26,10 +26,11 @@ for fw in single dual; do
   fi
 done
 echo "== evaluating both best genomes on the unseen environment bags/unseen/swarm" \
-  "(plain, and along a plan on the map of their own readings)" >&2
+  "(as trained, and as the shipped planners are deployed)" >&2
 # --force: the evaluation of an earlier demo in OUT is redone from its runs
 "$BIN/mentor-eval" "$OUT/swarm-single/best_genome.json" "$OUT/swarm-dual/best_genome.json" \
-  --bag "$ROOT/bags/unseen/swarm" --label single --label dual --scan-map \
+  --bag "$ROOT/bags/unseen/swarm" --label single --label dual \
+  --deployment none --deployment shipped \
   --out "$OUT/eval_unseen.json" --force
 echo "== writing the report" >&2
 # --force: the report of an earlier demo in OUT is replaced

@@ -10,11 +10,11 @@
 # Runs go to OUT/<config>/<robot>-<framework>-s<seed>; finished ones are kept, interrupted
 # ones resume. Nothing here chooses a setting: the test split and the bags are only reported.
 # The benchmark runs every genome as the shipped planners are deployed, and the baselines
-# plain, guarded, on their scan map and both (STUDY_BENCH_FLAGS, default "--deployed": the
-# rows of benchmarks/RESULTS.md's headline tables; "--scan-map --rotation-shim 45
-# --collision-guard" for every variant of the genomes too, plain included, without the
-# Swarm-Robot's turn gain; "" for the plain rows only), and the unseen bags are scored a
-# second time that way (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-...").
+# plain, guarded, on their scan map and both (STUDY_BENCH_FLAGS, default "--deployment
+# shipped": the rows of benchmarks/RESULTS.md's headline tables; "--deployment shipped --set
+# stages.turn_gain=null" without the Swarm-Robot's turn gain, "--deployment FILE" any other
+# deployment; "" for the plain rows only), and the unseen bags are scored a second time that
+# way (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-...").
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
@@ -25,7 +25,7 @@ SEEDS="${2:-1 2 3}"
 JOBS="${3:-2}"
 CONFIGS="${4:-original paper}"
 PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family
-read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---deployed}"
+read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---deployment shipped}"
 BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
 label() { basename "${1%.yaml}"; }

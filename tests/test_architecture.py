@@ -20,8 +20,8 @@ LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
 #: the ROS 2 packages: both nodes, what they share and the demo that runs them together
 NODE_PACKAGES = ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "mentor_bringup")
 WINGS = (
-    "evolution", "sim", "objectives", "files", "navigation", "training", "runtime", "benchmark",
-    "report", "cli",
+    "evolution", "sim", "objectives", "files", "navigation", "controller", "training", "runtime",
+    "benchmark", "report", "cli",
 )
 
 
@@ -66,6 +66,16 @@ def _inject(module: Path, line: str) -> str:
             "src/mentor_core/sim/world.py",
             "import mentor_core.training.trainer",
             "mentor_core.sim is not allowed to import mentor_core.training",
+        ),
+        (
+            "src/mentor_core/sim/episode.py",
+            "import mentor_core.controller.stage",
+            "mentor_core.sim is not allowed to import mentor_core.controller",
+        ),
+        (
+            "src/mentor_core/controller/pipeline.py",
+            "import mentor_core.runtime.planner",
+            "mentor_core.controller is not allowed to import mentor_core.runtime",
         ),
         (
             "src/mentor_core/sim/kinematics.py",

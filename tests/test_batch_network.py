@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_operator_properties import RunSpec, grow, run_specs
 
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.evolution import batch_network
 from mentor_core.evolution.batch_network import Backend, BatchNetwork
 from mentor_core.evolution.genome import (
@@ -25,7 +26,6 @@ from mentor_core.evolution.genome import (
 from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.evolution.mutation import MutationConfig, mutate
 from mentor_core.evolution.network import ACTIVATION_NAMES, FeedForwardNetwork
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.scenarios import training_scenarios
 from mentor_core.training.problem import NavigationProblem

@@ -92,6 +92,13 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
     assert report_main(["--bench", str(bad), "--out", str(tmp_path / "r")]) == 2
 
 
+#: a deployment file that is not a mapping of deployment keys
+NOT_A_MAPPING = "- decisions_per_period\n"
+#: mentor-bench's sources of a deployment's errors
+SHIPPED = "the shipped deployment of ugv with --set"
+NONE = "deployment none with --set"
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -104,19 +111,39 @@ def test_corrupt_result_files_are_named(bench_dir: Path, tmp_path: Path) -> None
         ([str(UGV_GENOME), str(UGV_GENOME), "--robot", "ugv"], "same label"),
         (["--robot", "ugv", "--baseline-limits", "fast"], "--baseline-limits: expected"),
         (["--robot", "ugv", "--baseline-limits", "shipped,shipped"], "--baseline-limits"),
-        (["--robot", "ugv", "--lookahead", "1"], "--lookahead: only with --scan-map"),
-        (["--robot", "ugv", "--scan-map", "--lookahead", "-1"], "--lookahead must be positive"),
-        (["--robot", "ugv", "--clearance-cost", "1"], "--clearance-cost: only with --scan-map"),
-        (["--robot", "ugv", "--scan-map", "--clearance-cost", "-1"], "must be a number >= 0"),
-        (["--robot", "ugv", "--deployed", "--least-margin", "0.5"], "--least-margin must be"),
-        (["--robot", "ugv", "--deployed", "--collision-guard"], "--deployed: give none of"),
+        # a deployment's bad value: one line naming its source and the key
+        (["--robot", "ugv", "--set", "scan_map.lookahead=-1"],
+         f"{NONE}: scan_map.lookahead: must be > 0"),
+        (["--robot", "ugv", "--deployment", "shipped", "--set", "scan_map.clearance_cost=-1"],
+         f"{SHIPPED}: scan_map.clearance_cost: must be >= 0"),
+        (["--robot", "ugv", "--deployment", "shipped", "--set", "stages.turn_gain.gain=2"],
+         f"{SHIPPED}: stages.turn_gain.gain: must be <= 1"),
+        (["--robot", "ugv", "--set", "stages.rotation_shim.threshold_deg=0"],
+         f"{NONE}: stages.rotation_shim.threshold_deg: must be > 0"),
+        (["--robot", "ugv", "--set", "stages.collision_guard.memory=0"],
+         f"{NONE}: stages.collision_guard.memory: must be >= 1"),
+        (["--robot", "ugv", "--deployment", "shipped", "--set", "decisions_per_period=0"],
+         f"{SHIPPED}: decisions_per_period: must be >= 1"),
+        (["--robot", "ugv", "--set", "stages.warp.speed=2"], "stages.warp: no such stage"),
+        (["--robot", "ugv", "--set", "warp=1"], "warp: unknown key"),
+        (["--robot", "ugv", "--set", "stages.turn_gain"], "--set: expected KEY=VALUE"),
+        (["--robot", "ugv", "--deployment", "{tmp}/missing.yaml"], "missing.yaml: no such file"),
+        (["--robot", "ugv", "--deployment", "{tmp}/list.yaml"],
+         "list.yaml: expected a mapping of deployment keys"),
+        # the plan's least margin lies within its whole margin (a footprint radius)
+        (["--robot", "swarm", "--families", "doe", "--pairs-per-family", "1", "--no-oracle",
+          "--deployment", "shipped", "--set", "scan_map.least_margin=0.5"],
+         "scan_map.least_margin: must be at most the plan's whole margin"),
+        (["--robot", "ugv", "--deployment", "shipped", "--set", "scan_map.least_margin=0.5"],
+         "scan_map.least_margin: must be at most the plan's whole margin"),
         (["--robot", "ugv", "--workers", "0"], "--workers must be >= 1"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
-    args: list[str], message: str, capsys: pytest.CaptureFixture[str]
+    args: list[str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    assert bench_main(args) == 2
+    (tmp_path / "list.yaml").write_text(NOT_A_MAPPING)
+    assert bench_main([a.format(tmp=tmp_path) for a in args]) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1
 
@@ -239,83 +266,96 @@ def test_seeds_of_a_planner_are_summarised_beside_the_baselines(
     assert "| **overall** | 50 ± 50 % / 0.25 ± 0.25 |" in md
 
 
-def test_scan_map_adds_each_planner_on_the_map_of_what_it_read(
+def test_a_scan_map_runs_each_genome_and_adds_each_baseline_on_the_map_of_what_it_read(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    out = tmp_path / "mapped"
-    code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
-                       "rooms", "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
-                       "--baseline-limits", "reference", "--scan-map", "--out",
-                       str(out)])  # fmt: skip
-    assert code == 0
-    doc = load_bench(out / "bench.json")
+    """A deployment with a scan map: the genome steers only to the carrot of its plan (named
+    by its label), each baseline plain and as ``mapped-<baseline>``."""
+    common = [str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families", "rooms",
+              "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
+              "--baseline-limits", "reference"]  # fmt: skip
+    deployment = tmp_path / "mapped.yaml"
+    deployment.write_text("scan_map: {}\n")
+    assert bench_main([*common, "--deployment", str(deployment), "--out",
+                       str(tmp_path / "mapped")]) == 0  # fmt: skip
+    doc = load_bench(tmp_path / "mapped" / "bench.json")
     names = [c["name"] for c in doc["contenders"]]
-    assert names == ["ref-s1", "vfh", "mapped-ref-s1", "mapped-vfh"]
-    assert [c["kind"] for c in doc["contenders"]] == ["evolved", "baseline"] * 2
-    # printed too: each evolved planner against the best of vfh and mapped-vfh
+    assert names == ["ref-s1", "vfh", "mapped-vfh"]
+    assert [c["kind"] for c in doc["contenders"]] == ["evolved", "baseline", "baseline"]
+    # printed too: the evolved planner against the best of vfh and mapped-vfh
     printed = capsys.readouterr().out
     assert "head to head with the best baseline, ugv, validation split, limit 50 s" in printed
-    assert "`ref-s1` leads or ties" in printed and "`mapped-ref-s1` leads or ties" in printed
+    assert "`ref-s1` leads or ties" in printed
     assert "paths on the pairs both reached with the baseline of the highest SPL" in printed
-    assert "| family | pairs both reached | `mapped-ref-s1` |" in printed
-    plain, mapped = doc["contenders"][0], doc["contenders"][2]
+    assert "| family | pairs both reached | `ref-s1` |" in printed
+    mapped = doc["contenders"][0]
+    assert bench_main([*common, "--baselines", "none", "--out", str(tmp_path / "plain")]) == 0
+    plain = load_bench(tmp_path / "plain" / "bench.json")["contenders"][0]
     # the same planner, steered elsewhere: its trajectories differ
     assert any(a["trajectory"] != b["trajectory"]
                for a, b in zip(plain["results"], mapped["results"], strict=True))  # fmt: skip
     # the guide is recorded: the carrot 1.5 goal radii (the UGV's: 1 m) along the plan,
     # cells of 5 cm
-    assert "scan_map" not in plain
-    assert mapped["scan_map"]["lookahead"] == pytest.approx(1.5)
-    assert mapped["scan_map"]["resolution"] == pytest.approx(0.05)
+    assert "scan_map" not in plain and "scan_map" not in doc["contenders"][1]
+    for c in (mapped, doc["contenders"][2]):
+        assert c["scan_map"]["lookahead"] == pytest.approx(1.5)
+        assert c["scan_map"]["resolution"] == pytest.approx(0.05)
 
 
-def test_lookahead_moves_the_carrot_on_the_scan_map(tmp_path: Path) -> None:
+def test_the_deployments_lookahead_moves_the_carrot_on_the_scan_map(tmp_path: Path) -> None:
     out = tmp_path / "near"
     assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--families", "rooms",
                        "--pairs-per-family", "2", "--baselines", "none", "--no-oracle",
-                       "--scan-map", "--lookahead", "0.75", "--out", str(out)]) == 0  # fmt: skip
+                       "--set", "scan_map.lookahead=0.75", "--out", str(out)]) == 0  # fmt: skip
     doc = load_bench(out / "bench.json")
-    mapped = doc["contenders"][1]
-    assert mapped["name"].startswith("mapped-")
+    [mapped] = doc["contenders"]
+    assert mapped["name"] == str(UGV_GENOME)  # its label: no prefix for a deployment's map
     assert mapped["scan_map"]["lookahead"] == mapped["scan_map"]["replan_distance"] == 0.75
     assert mapped["scan_map"]["clearance_cost"] == 0.0  # the UGV's plan keeps a hard disc
 
 
-def test_clearance_cost_on_the_scan_map_is_the_robots_unless_given(tmp_path: Path) -> None:
+def test_clearance_cost_on_the_scan_map_is_the_deployments(tmp_path: Path) -> None:
     docs = {}
-    for name, extra in (("default", []), ("given", ["--clearance-cost", "2",
-                                                    "--least-margin", "0.01"])):
+    for name, extra in (("default", []), ("given", ["--set", "scan_map.clearance_cost=2",
+                                                    "--set", "scan_map.least_margin=0.01",
+                                                    "--set", "stages.turn_gain=null"])):
         out = tmp_path / name
         assert bench_main([str(SWARM_PLANNER), "--robot", "swarm", "--families", "doe",
                            "--pairs-per-family", "2", "--baselines", "vfh", "--no-oracle",
-                           "--deployed", *extra, "--out", str(out)]) == 0  # fmt: skip
+                           "--deployment", "shipped", *extra, "--out", str(out)]) == 0
         docs[name] = load_bench(out / "bench.json")["contenders"]
     # the Swarm-Robot's: a weight of 1, half a footprint radius (0.025 m) kept at least; the
     # evolved planner and the baselines on their scan map plan alike
     mapped = [c for c in docs["default"] if "scan_map" in c]
-    assert [c["name"] for c in mapped][:2] == ["mapped-guard-shim-" + str(SWARM_PLANNER),
-                                               "mapped-vfh"]  # fmt: skip
+    assert [c["name"] for c in mapped][:2] == [str(SWARM_PLANNER), "mapped-vfh"]
     for c in mapped:
         assert c["scan_map"]["clearance_cost"] == 1.0
         assert c["scan_map"]["least_margin"] == pytest.approx(0.025)
     given = [c["scan_map"] for c in docs["given"] if "scan_map" in c]
+    assert len(given) == len(mapped)
     assert all(g["clearance_cost"] == 2.0 and g["least_margin"] == 0.01 for g in given)
+    # --set stages.turn_gain=null leaves the shipped gain on the turn out, and nothing else
+    shipped, without = docs["default"][0]["settings"], docs["given"][0]["settings"]
+    assert shipped["turn_gain"] == 0.75 and "turn_gain" not in without
+    assert {k: v for k, v in shipped.items() if k != "turn_gain"} == without
 
 
-def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(
+def test_a_rotation_shim_turns_each_genome_onto_its_goal_first(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    out = tmp_path / "shim"
-    code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
-                       "doe", "--pairs-per-family", "5", "--baselines", "vfh", "--no-oracle",
-                       "--baseline-limits", "reference", "--rotation-shim", "45", "--out",
-                       str(out)])  # fmt: skip
-    assert code == 0
-    doc = load_bench(out / "bench.json")
-    assert [c["name"] for c in doc["contenders"]] == ["ref-s1", "shim-ref-s1", "vfh"]
-    plain, shim = doc["contenders"][0], doc["contenders"][1]
+    common = [str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families", "doe",
+              "--pairs-per-family", "5", "--baselines", "vfh", "--no-oracle",
+              "--baseline-limits", "reference"]  # fmt: skip
+    docs = {}
+    for name, extra in (("plain", []),
+                        ("shim", ["--set", "stages.rotation_shim.threshold_deg=45"])):
+        assert bench_main([*common, *extra, "--out", str(tmp_path / name)]) == 0
+        docs[name] = load_bench(tmp_path / name / "bench.json")["contenders"]
+    assert [c["name"] for c in docs["shim"]] == ["ref-s1", "vfh"]  # no variant of a baseline
+    plain, shim = docs["plain"][0], docs["shim"][0]
     assert shim["settings"]["rotation_shim"] == pytest.approx(math.pi / 4)
     assert "rotation_shim" not in plain["settings"]
+    assert docs["plain"][1] == docs["shim"][1] | {"seconds": docs["plain"][1]["seconds"]}
     smallest = shim["settings"]["step_min"]
 
     def first_step(result: dict[str, Any]) -> float:
@@ -326,50 +366,75 @@ def test_rotation_shim_adds_each_genome_turning_onto_its_goal_first(
     turned = [first_step(b) <= smallest + 1e-9 < first_step(a)
               for a, b in zip(plain["results"], shim["results"], strict=True)]  # fmt: skip
     assert any(turned)
-    assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--rotation-shim", "0"]) == 2
-    assert "--rotation-shim" in capsys.readouterr().err
+    capsys.readouterr()
+    assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--set",
+                       "stages.rotation_shim.threshold_deg=181"]) == 2  # fmt: skip
+    err = capsys.readouterr().err
+    assert "stages.rotation_shim.threshold_deg" in err and len(err.strip().splitlines()) == 1
 
 
-def test_collision_guard_adds_each_planner_but_the_oracle_behind_the_guard(
-    tmp_path: Path,
+def test_a_collision_guard_runs_each_genome_and_adds_each_baseline_behind_the_guard(
+    bench_dir: Path, tmp_path: Path
 ) -> None:
+    deployment = tmp_path / "guard.yaml"
+    deployment.write_text("stages:\n  collision_guard: {memory: 3}\n")
     out = tmp_path / "guard"
     code = bench_main([str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families",
                        "forest_dense", "--pairs-per-family", "5", "--baselines", "vfh",
-                       "--baseline-limits", "reference", "--rotation-shim", "45",
-                       "--collision-guard", "--out", str(out)])  # fmt: skip
+                       "--baseline-limits", "reference", "--deployment", str(deployment),
+                       "--out", str(out)])  # fmt: skip
     assert code == 0
     doc = load_bench(out / "bench.json")
     names = [c["name"] for c in doc["contenders"]]
-    assert names == ["ref-s1", "shim-ref-s1", "vfh", "guard-ref-s1", "guard-shim-ref-s1",
-                     "guard-vfh", "oracle"]  # fmt: skip
+    assert names == ["ref-s1", "vfh", "guard-vfh", "oracle"]  # never the oracle behind it
     by_name = {c["name"]: c for c in doc["contenders"]}
-    assert by_name["guard-shim-ref-s1"]["settings"]["collision_guard"] is True
-    assert by_name["guard-shim-ref-s1"]["settings"]["rotation_shim"] == pytest.approx(math.pi / 4)
-    assert "collision_guard" not in by_name["ref-s1"]["settings"]
+    for name in ("ref-s1", "guard-vfh"):
+        assert by_name[name]["settings"]["collision_guard"] is True
+        assert "guard_memory" not in by_name[name]["settings"]  # the default memory
+    for name in ("vfh", "oracle"):
+        assert "collision_guard" not in by_name[name]["settings"]
+    # as trained (the default deployment, none): no guard
+    assert "collision_guard" not in load_bench(bench_dir / "bench.json")["contenders"][0][
+        "settings"]
     for c in doc["contenders"]:  # lengths driven, steps back included, are never negative
         assert all(r["path_length"] >= 0.0 for r in c["results"])
+    # a guard of another memory is recorded as such
+    memory = tmp_path / "memory"
+    assert bench_main([str(UGV_GENOME), "--robot", "ugv", "--families", "doe",
+                       "--pairs-per-family", "1", "--baselines", "none", "--no-oracle",
+                       "--set", "stages.collision_guard.memory=5",
+                       "--out", str(memory)]) == 0  # fmt: skip
+    settings = load_bench(memory / "bench.json")["contenders"][0]["settings"]
+    assert settings["collision_guard"] is True and settings["guard_memory"] == 5
 
 
-def test_deployed_runs_each_genome_only_as_deployed_and_as_the_three_flags_do(
-    tmp_path: Path,
-) -> None:
-    """--deployed: the UGV genome deciding twice per trained period on its scan map behind
-    the shim (45 deg) and the guard, and the baselines in the variants the three flags add;
-    each the same run as with the flags."""
+#: the UGV's shipped deployment, key by key (mentor_core/data/deployments.yaml)
+UGV_SHIPPED = ["--set", "decisions_per_period=2", "--set", "scan_map={}",
+               "--set", "stages.rotation_shim.threshold_deg=45",
+               "--set", "stages.collision_guard.memory=3"]  # fmt: skip
+
+
+def test_the_shipped_deployment_runs_each_genome_only_as_deployed(tmp_path: Path) -> None:
+    """--deployment shipped: the UGV genome deciding twice per trained period on its scan map
+    behind the shim (45 deg) and the guard, and the baselines plain, guarded, on their scan
+    map and both; each the same run as with its keys given one by one."""
     common = [str(UGV_GENOME), "--label", "ref-s1", "--robot", "ugv", "--families", "rooms",
               "--pairs-per-family", "2", "--baselines", "vfh", "--baseline-limits",
               "reference", "--no-oracle"]  # fmt: skip
-    assert bench_main([*common, "--deployed", "--out", str(tmp_path / "d")]) == 0
-    # the reference genome was trained to decide every 1 s (the robot's period)
-    flags = ["--scan-map", "--rotation-shim", "45", "--collision-guard", "--control-period",
-             "0.5"]  # fmt: skip
-    assert bench_main([*common, *flags, "--out", str(tmp_path / "all")]) == 0
+    assert bench_main([*common, "--deployment", "shipped", "--out", str(tmp_path / "d")]) == 0
+    assert bench_main([*common, *UGV_SHIPPED, "--out", str(tmp_path / "keys")]) == 0
     deployed = load_bench(tmp_path / "d" / "bench.json")["contenders"]
-    every = {c["name"]: c for c in load_bench(tmp_path / "all" / "bench.json")["contenders"]}
+    keys = {c["name"]: c for c in load_bench(tmp_path / "keys" / "bench.json")["contenders"]}
     assert [c["name"] for c in deployed] == [
-        "mapped-guard-shim-ref-s1", "vfh", "guard-vfh", "mapped-vfh", "mapped-guard-vfh"]
-    assert len(every) == 12  # (plain, shim) x (guard or not) x (map or not), the baseline x 4
+        "ref-s1", "vfh", "guard-vfh", "mapped-vfh", "mapped-guard-vfh"]
+    assert list(keys) == [c["name"] for c in deployed]
     for c in deployed:
-        assert c["results"] == every[c["name"]]["results"], c["name"]
-        assert c["settings"] == every[c["name"]]["settings"], c["name"]
+        assert c["results"] == keys[c["name"]]["results"], c["name"]
+        assert c["settings"] == keys[c["name"]]["settings"], c["name"]
+        assert c.get("scan_map") == keys[c["name"]].get("scan_map"), c["name"]
+    # the reference genome was trained to decide every 1 s (the robot's period)
+    settings = deployed[0]["settings"]
+    assert settings["control_period"] == 0.5 and settings["collision_guard"] is True
+    assert settings["rotation_shim"] == pytest.approx(math.pi / 4)
+    assert deployed[0]["scan_map"]["lookahead"] == pytest.approx(1.5)
+    assert deployed[1]["settings"]["control_period"] == 1.0  # the baselines' own period

@@ -13,7 +13,14 @@ import numpy as np
 import pytest
 
 from mentor_core.benchmark.bug import bug_policy
-from mentor_core.benchmark.contenders import Contender, evolved, from_genome, hand_written
+from mentor_core.benchmark.contenders import (
+    Contender,
+    behind_collision_guard,
+    evolved,
+    from_genome,
+    hand_written,
+    on_scan_map,
+)
 from mentor_core.benchmark.control import (
     Odometry,
     PointMemory,
@@ -24,10 +31,13 @@ from mentor_core.benchmark.control import (
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.scores import outcomes, spl, under_limit
 from mentor_core.benchmark.suite import build_suite, reference_profile
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.deployment import load_deployment
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.files.genome_file import load_genome_and_metadata
-from mentor_core.runtime.planner import planner_profile
+from mentor_core.runtime.planner import deployed_genome, planner_profile
 from mentor_core.sim.collision import default_sample_step
-from mentor_core.sim.episode import Policy, run_episodes
+from mentor_core.sim.episode import Policy
 from mentor_core.sim.kinematics import unicycle_arc
 from mentor_core.sim.observation import actions_from_outputs, network_inputs
 from mentor_core.sim.planner_settings import with_planner
@@ -250,3 +260,30 @@ def test_a_genome_in_memory_runs_as_its_file() -> None:
     assert np.array_equal(a.steps, b.steps) and np.array_equal(a.reached, b.reached)
     with pytest.raises(ValueError, match="inputs"):
         from_genome(genome, get_profile("swarm"), "wrong robot")
+
+
+def test_a_genome_in_memory_runs_as_its_file_as_deployed() -> None:
+    """``evolved(path, robot, name, deployment)``: the genome with the deployment's profile
+    and stages on its scan map, named ``name`` (no prefix); a baseline behind the guard and on
+    its scan map is named for each."""
+    path = Path(__file__).resolve().parents[1] / "bags/regression/ugv_reference_genome.json"
+    robot = get_profile("ugv")
+    suite = build_suite(robot, "validation", ["traps"], pairs_per_family=3)
+    deployment, _ = load_deployment("shipped", "ugv")
+    genome, deployed = deployed_genome(path, "ugv", deployment)
+    file = evolved(path, robot, "ref", deployment)
+    memory = on_scan_map(from_genome(genome, deployed.profile, "ref", str(path), deployed.stages),
+                         deployed.guide, rename=False)  # fmt: skip
+    assert deployed.guide is not None and file.guide == deployed.guide
+    assert file.name == memory.name == "ref"
+    assert [s.name for s in file.stages] == ["rotation_shim", "collision_guard"]
+    assert file.profile.control_period == 0.5  # twice per trained period (1 s)
+    a, b = run_contender(suite, file).outcomes, run_contender(suite, memory).outcomes
+    assert np.array_equal(a.steps, b.steps) and np.array_equal(a.reached, b.reached)
+    assert np.array_equal(a.path_length, b.path_length)
+    # as trained (no deployment): the plain genome, no stages, on no map
+    plain = evolved(path, robot)
+    assert plain.stages == () and plain.guide is None and plain.name == str(path)
+    vfh = hand_written("vfh", reference_profile(robot))
+    guarded = on_scan_map(behind_collision_guard(vfh, CollisionGuardStage()), deployed.guide)
+    assert guarded.name == "mapped-guard-vfh" and guarded.stages == (CollisionGuardStage(),)

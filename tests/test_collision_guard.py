@@ -1,6 +1,7 @@
-"""The collision guard (``RobotProfile.collision_guard``, ``mentor-bench --collision-guard``; not
-in the paper): no arc into what the sensors read lately, a step back when every arc ahead
-would hit, and nothing changed when the planner's arc is free."""
+"""The collision guard (the stage ``collision_guard`` of a deployment, as ``mentor-bench
+--deployment shipped`` runs the UGV's; not in the paper): no arc into what the sensors read
+lately, a step back when every arc ahead would hit, and nothing changed when the planner's arc
+is free."""
 
 from __future__ import annotations
 
@@ -10,11 +11,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mentor_core.controller.collision_guard import (
+    BACKUP_SHARES,
+    MEMORY,
+    CollisionGuard,
+    CollisionGuardStage,
+    read_points,
+)
+from mentor_core.controller.deployment import Deployment, load_deployment
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.stage import Stage
 from mentor_core.errors import ConfigError
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.sim.collision import swept_collision
-from mentor_core.sim.collision_guard import BACKUP_SHARES, CollisionGuard, read_points
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.sensors import sensor_readings
@@ -27,10 +36,15 @@ QUARTER = math.pi / 4
 WALL = World(12.0, np.array([[5.0, 0.0, 5.2, 12.0]]))
 
 
-def guarded(on: bool = True) -> RobotProfile:
+def guarded() -> RobotProfile:
+    """The planner's profile the guard is tested with (the guard itself is a stage)."""
     return with_planner(get_profile("ugv"), input_encoding="egocentric",
                         heading_change_max=QUARTER, step_max=0.5, step_min=0.02,
-                        clearance_margin=0.2, collision_guard=on)  # fmt: skip
+                        clearance_margin=0.2)  # fmt: skip
+
+
+def guard_stages(on: bool = True) -> tuple[Stage, ...]:
+    return (CollisionGuardStage(),) if on else ()
 
 
 def test_read_points_lie_where_the_readings_hit() -> None:
@@ -120,11 +134,13 @@ def test_without_an_arena_the_guard_decides_as_in_it_wherever_odometry_puts_the_
 def test_a_genome_planner_behind_the_guard_backs_out_of_a_wedge() -> None:
     # the reference UGV genome, a few mm before a wall it faces: its own decision (a turn on
     # the smallest step) sweeps a corner into the wall; behind the guard (as the planner node
-    # runs it: collision_guard) it backs up instead, and forgets what it read on reset
+    # runs it: a deployment with the stage collision_guard) it backs up instead, and forgets
+    # what it read on reset
     plain = GenomePlanner.load(UGV_GENOME, "ugv")
-    safe = GenomePlanner.load(UGV_GENOME, "ugv", collision_guard=True)
+    safe = GenomePlanner.load(UGV_GENOME, "ugv", Deployment(stages={"collision_guard": {}}))
     profile = safe.profile
-    assert profile.collision_guard and not plain.profile.collision_guard
+    assert profile == plain.profile
+    assert safe.stages == (CollisionGuardStage(),) and plain.stages == ()
     pose = np.array([5.0 - 0.5 * profile.length - 0.005, 3.0, 0.0])
     readings = sensor_readings(pose[None], profile, WALL)[0]
     own = plain.decide(readings, pose, (3.0, 9.0))
@@ -157,10 +173,11 @@ def test_a_planner_that_drives_at_a_wall_collides_without_the_guard_and_not_with
 
     scenario = Scenario(WALL, (3.0, 3.0, 0.2), (3.0, 9.0))
 
-    def run(profile: RobotProfile):  # type: ignore[no-untyped-def]
-        return run_episodes([scenario], profile, policy, time_budgets=[20.0])
+    def run(on: bool):  # type: ignore[no-untyped-def]
+        return run_episodes([scenario], guarded(), policy, time_budgets=[20.0],
+                            stages=guard_stages(on))  # fmt: skip
 
-    plain, with_guard = run(guarded(False)), run(guarded(True))
+    plain, with_guard = run(False), run(True)
     assert plain.collided[0]
     assert not with_guard.collided[0]
     assert with_guard.steps[0] > plain.steps[0]
@@ -169,7 +186,19 @@ def test_a_planner_that_drives_at_a_wall_collides_without_the_guard_and_not_with
             == pytest.approx(np.abs(with_guard.experience[0][:, 8 + 1]).sum()))  # fmt: skip
 
 
-def test_the_setting_must_be_a_bool() -> None:
-    with pytest.raises(ConfigError, match="collision_guard"):
-        with_planner(get_profile("ugv"), collision_guard="yes")
-    assert not get_profile("ugv").collision_guard
+@pytest.mark.parametrize("memory", ["yes", 0, 1.5, True])
+def test_the_memory_must_be_a_whole_number_of_decisions(memory: object) -> None:
+    with pytest.raises(ConfigError, match="memory"):
+        CollisionGuardStage(memory=memory)  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=r"stages\.collision_guard\.memory"):
+        load_deployment("none", "ugv", [f"stages.collision_guard.memory={memory}"])
+    assert CollisionGuardStage().memory == MEMORY
+
+
+def test_no_guard_unless_a_deployment_names_one() -> None:
+    none, _ = load_deployment("none", "ugv")
+    assert none.build() == ()
+    shipped, _ = load_deployment("shipped", "ugv")
+    assert CollisionGuardStage() in shipped.build()
+    dropped, _ = load_deployment("shipped", "ugv", ["stages.collision_guard=null"])
+    assert not any(isinstance(s, CollisionGuardStage) for s in dropped.build())

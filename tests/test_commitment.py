@@ -1,6 +1,6 @@
 """Rules on a planner's turns, experiment E024 (benchmarks/experiments/): the Bug-like turn
-commitment (sim/commitment.py), turns relative to the goal (sim/goal_frame.py), their trainer
-config keys."""
+commitment (controller/turn_commitment.py, the stage ``turn_commitment``), turns relative to
+the goal (sim/goal_frame.py), their trainer config keys."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
+from mentor_core.controller.turn_commitment import TurnCommitment
 from mentor_core.errors import ConfigError
-from mentor_core.sim.commitment import TurnCommitment
 from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import get_profile
@@ -26,29 +26,34 @@ UGV = with_planner(
 def test_a_blocked_robot_keeps_turning_to_its_previous_side() -> None:
     k = UGV.n_sensors
     wall = np.full((2, k + 3), 0.1)  # everything 0.1 m away: every turn's step is the smallest
-    rule = TurnCommitment(UGV, 2)
+    rule = TurnCommitment().start(2, UGV, None)
     robots = np.array([0, 1])
     # the first decision: nothing to keep, both as the network says
-    first = rule(np.array([[0.9, 0.5], [0.2, 0.5]]), wall, robots)
+    first = rule.outputs(robots, np.array([[0.9, 0.5], [0.2, 0.5]]), wall)
     assert first[:, 0].tolist() == [0.9, 0.2]
     # then the network turns the other way: mirrored back to each robot's own side
-    again = rule(np.array([[0.3, 0.5], [0.7, 0.5]]), wall, robots)
+    again = rule.outputs(robots, np.array([[0.3, 0.5], [0.7, 0.5]]), wall)
     assert again[:, 0] == pytest.approx([0.7, 0.3], abs=1e-15)
     assert again[:, 1].tolist() == [0.5, 0.5]  # the step output is the network's
+    # a new episode for robot 0 only: it has nothing to keep, robot 1 still keeps its side
+    rule.reset(np.array([0]))
+    fresh = rule.outputs(robots, np.array([[0.3, 0.5], [0.7, 0.5]]), wall)
+    assert fresh[:, 0] == pytest.approx([0.3, 0.3], abs=1e-15)
 
 
 def test_a_free_robot_turns_as_the_network_says() -> None:
     k = UGV.n_sensors
     free = np.full((1, k + 3), UGV.sensor_range)
-    rule = TurnCommitment(UGV, 1)
-    rule(np.array([[0.9, 0.5]]), free, np.array([0]))
-    assert rule(np.array([[0.1, 0.5]]), free, np.array([0]))[0, 0] == 0.1
+    rule = TurnCommitment().start(1, UGV, None)
+    rule.outputs(np.array([0]), np.array([[0.9, 0.5]]), free)
+    assert rule.outputs(np.array([0]), np.array([[0.1, 0.5]]), free)[0, 0] == 0.1
 
 
 def test_config_key_turns_it_on_in_training() -> None:
     base = {"robot": "swarm", "n_scenarios": 3, "generations": 2, "stage1_generations": 1}
-    assert not make_problem(TrainerConfig.from_dict(base)).turn_commitment
-    assert make_problem(TrainerConfig.from_dict({**base, "turn_commitment": True})).turn_commitment
+    assert make_problem(TrainerConfig.from_dict(base)).stages == ()
+    on = make_problem(TrainerConfig.from_dict({**base, "turn_commitment": True}))
+    assert on.stages == (TurnCommitment(),)
 
 
 def _goal_inputs(bearings_deg: list[float]) -> np.ndarray:

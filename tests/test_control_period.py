@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.errors import ConfigError
 from mentor_core.runtime.planner import planner_profile
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario, World

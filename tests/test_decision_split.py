@@ -1,7 +1,8 @@
-"""Deciding more often than trained (``mentor_core.sim.decision_split``; not in the paper): each
-decision is that share of the trained step and turn, so the robot is commanded the speeds it
-was trained to drive; the benchmark, ``mentor-eval``, the planner node and the launch files
-all run the shipped UGV planners at half their trained period."""
+"""Deciding more often than trained (``mentor_core.controller.decision_split``, a deployment's
+``decisions_per_period``; not in the paper): each decision is that share of the trained step
+and turn, so the robot is commanded the speeds it was trained to drive; the benchmark,
+``mentor-eval``, the planner node and the launch files all run the shipped planners (their
+shipped deployment) at half their trained period."""
 
 from __future__ import annotations
 
@@ -12,14 +13,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.benchmark.contenders import as_deployed, evolved
+from mentor_core.benchmark.contenders import evolved
 from mentor_core.cli import bench as bench_cli
 from mentor_core.cli import evaluate as eval_cli
+from mentor_core.controller.decision_split import at_control_period
+from mentor_core.controller.deployment import Deployment, load_deployment
 from mentor_core.errors import ConfigError
 from mentor_core.files.bags import read_episode_bag
-from mentor_core.runtime.planner import GenomePlanner, deployed_control_period, genome_profile
-from mentor_core.runtime.robot_graph import headline_parameters, robot_planners, simulator_period
-from mentor_core.sim.decision_split import at_control_period
+from mentor_core.runtime.planner import GenomePlanner, deployed_genome, genome_profile
+from mentor_core.runtime.robot_graph import planner_period, robot_planners, simulator_period
 from mentor_core.sim.robots import get_profile
 
 REPO = Path(__file__).resolve().parents[1]
@@ -50,15 +52,22 @@ def test_a_period_longer_than_trained_or_not_positive_is_refused_naming_the_file
 ) -> None:
     with pytest.raises(ConfigError, match=r"g\.json.*control_period"):
         at_control_period(genome_profile(UGV_PLANNER, "ugv"), bad, "g.json")
-    with pytest.raises(ConfigError, match="control_period"):
-        GenomePlanner.load(UGV_PLANNER, "ugv", control_period=bad)
+
+
+@pytest.mark.parametrize("bad", ["0", "-2", "1.5", "17", "true", ".nan", "'2'"])
+def test_decisions_per_period_must_be_a_whole_number_from_one_to_sixteen(bad: str) -> None:
+    with pytest.raises(ConfigError, match=r"--set: decisions_per_period: "):
+        load_deployment("none", "ugv", [f"decisions_per_period={bad}"])
+    with pytest.raises(ConfigError, match="decisions_per_period"):
+        Deployment(decisions_per_period=bad)  # type: ignore[arg-type]
 
 
 def test_the_planner_commands_the_trained_speeds_at_half_the_period() -> None:
     """The same readings give the same Twist at 0.25 s as at 0.5 s: half the turn and half
     the step in half the time (where the step is not held back near an obstacle)."""
     trained = GenomePlanner.load(UGV_PLANNER, "ugv")
-    split = GenomePlanner.load(UGV_PLANNER, "ugv", control_period=0.25)
+    split = GenomePlanner.load(UGV_PLANNER, "ugv", Deployment(decisions_per_period=2))
+    assert split.profile.control_period == 0.25
     rng = np.random.default_rng(3)
     for _ in range(20):
         ranges = rng.uniform(2.0, 4.0, trained.profile.n_sensors)  # nothing near: no clamp
@@ -73,24 +82,33 @@ def test_the_planner_commands_the_trained_speeds_at_half_the_period() -> None:
 
 def test_the_shipped_planners_decide_twice_per_trained_period_when_deployed() -> None:
     ugv, swarm = get_profile("ugv"), get_profile("swarm")
-    assert deployed_control_period(genome_profile(UGV_PLANNER, "ugv")) == 0.25
-    assert deployed_control_period(genome_profile(SWARM_PLANNER, "swarm")) == 0.5
-    deployed = as_deployed(evolved(UGV_PLANNER, ugv)).profile
+    shipped_ugv = load_deployment("shipped", "ugv")[0]
+    shipped_swarm = load_deployment("shipped", "swarm")[0]
+    assert shipped_ugv.decisions_per_period == shipped_swarm.decisions_per_period == 2
+    assert deployed_genome(UGV_PLANNER, "ugv", shipped_ugv)[1].profile.control_period == 0.25
+    assert deployed_genome(SWARM_PLANNER, "swarm", shipped_swarm)[1].profile.control_period == 0.5
+    deployed = evolved(UGV_PLANNER, ugv, deployment=shipped_ugv).profile
     assert deployed.control_period == 0.25 and deployed.step_max == 0.25
     assert deployed.heading_change_max == pytest.approx(math.radians(22.5))
-    deployed = as_deployed(evolved(SWARM_PLANNER, swarm)).profile
+    deployed = evolved(SWARM_PLANNER, swarm, deployment=shipped_swarm).profile
     assert deployed.control_period == 0.5 and deployed.step_max == pytest.approx(0.04)
-    again = as_deployed(evolved(UGV_PLANNER, ugv), control_period=0.5).profile
+    once = load_deployment("shipped", "ugv", ["decisions_per_period=1"])[0]
+    again = evolved(UGV_PLANNER, ugv, deployment=once).profile
     assert again.control_period == 0.5 and again.step_max == 0.5
+    # as trained (no deployment): the trained period
+    assert evolved(UGV_PLANNER, ugv).profile.control_period == 0.5
 
 
-def test_a_headline_session_steps_at_the_deployed_period(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_shipped_deployment_session_steps_at_the_deployed_period(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     monkeypatch.chdir(REPO)
     ugv = "planners/ugv-paper-dual-s1.json"
-    assert headline_parameters("ugv", ugv)["control_period"] == 0.25
-    (headline,) = robot_planners(["ugv"], {"ugv": ugv}, headline=True)
+    (shipped,) = robot_planners(["ugv"], {"ugv": ugv}, deployment="shipped")
     (plain,) = robot_planners(["ugv"], {"ugv": ugv})
-    assert simulator_period([headline], continuous=False) == 0.25
+    assert shipped.options["deployment"] == "shipped"
+    assert planner_period(shipped) == 0.25 and planner_period(plain) == 0.5
+    assert simulator_period([shipped], continuous=False) == 0.25
     assert simulator_period([plain], continuous=False) == 0.5
 
 
@@ -99,30 +117,31 @@ def test_the_command_lines_take_a_period_and_refuse_a_bad_one_in_one_line(
 ) -> None:
     common = [str(UGV_PLANNER), "--robot", "ugv", "--families", "rooms",
               "--pairs-per-family", "2", "--baselines", "none", "--no-oracle"]  # fmt: skip
-    runs = (([], 0.5), (["--control-period", "0.25"], 0.25), (["--deployed"], 0.25),
-            (["--deployed", "--control-period", "0.5"], 0.5))
-    for extra, period in runs:
-        out = tmp_path / f"bench{len(extra)}"
+    runs = (([], 0.5), (["--set", "decisions_per_period=2"], 0.25),
+            (["--deployment", "shipped"], 0.25),
+            (["--deployment", "shipped", "--set", "decisions_per_period=1"], 0.5))
+    for i, (extra, period) in enumerate(runs):
+        out = tmp_path / f"bench{i}"
         assert bench_cli.main([*common, *extra, "--out", str(out)]) == 0
         settings = json.loads((out / "bench.json").read_text())["contenders"][0]["settings"]
         assert settings["control_period"] == period and settings["step_max"] == period
     for main in (bench_cli.main, eval_cli.main):
         robot = ["--robot", "ugv"] if main is bench_cli.main else ["--bag", "bags/unseen/ugv"]
-        for bad, fault in (("0", "--control-period"), ("1.0", str(UGV_PLANNER))):
+        for bad in ("0", "1.5", "17"):
             capsys.readouterr()
-            assert main([str(UGV_PLANNER), *robot, "--control-period", bad]) == 2
+            assert main([str(UGV_PLANNER), *robot, "--set", f"decisions_per_period={bad}"]) == 2
             err = capsys.readouterr().err
-            assert fault in err and len(err.strip().splitlines()) == 1
+            assert "decisions_per_period" in err and len(err.strip().splitlines()) == 1
 
 
 def test_a_recording_steps_at_the_period_the_planners_decide_at(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """``mentor-eval --deployed --record``: the bag's simulator steps every 0.25 s, as the UGV's
-    planner decides, so every episode ends as the table says; genomes of two periods are
-    refused in one line before anything is written."""
+    """``mentor-eval --deployment shipped --record``: the bag's simulator steps every 0.25 s,
+    as the UGV's planner decides, so every episode ends as the table says; genomes of two
+    periods are refused in one line before anything is written."""
     bag = tmp_path / "bag"
-    common = [str(UGV_PLANNER), "--bag", "bags/unseen/ugv", "--deployed"]
+    common = [str(UGV_PLANNER), "--bag", "bags/unseen/ugv", "--deployment", "shipped"]
     assert eval_cli.main([*common, "--record", str(bag)]) == 0
     err = capsys.readouterr().err
     assert "recorded 10 episodes" in err and "in the recording" not in err

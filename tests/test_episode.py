@@ -1,4 +1,5 @@
-"""Episodes: termination, time accounting, trajectories, experience points, several worlds."""
+"""Episodes: termination, time accounting, trajectories, experience points, several worlds,
+the controller's stages."""
 
 from __future__ import annotations
 
@@ -6,7 +7,12 @@ import numpy as np
 import pytest
 from profiles_support import single_rays
 
-from mentor_core.sim.episode import run_episodes
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.rotation_shim import RotationShim
+from mentor_core.controller.stage import Stage
+from mentor_core.controller.turn_gain import TurnGain
+from mentor_core.controller.view_corridor import ViewCorridor
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario, World
@@ -91,7 +97,15 @@ def test_deterministic_and_backends_agree() -> None:
         np.testing.assert_array_equal(runs[0].time_used, other.time_used)
 
 
-def test_several_worlds_give_what_each_world_gives_alone() -> None:
+#: stages that each change a decision, two of them remembering per robot
+LAYERS: tuple[Stage, ...] = (ViewCorridor(margin=0.5), TurnGain(gain=0.8),
+                             RotationShim(threshold_deg=30), CollisionGuardStage())  # fmt: skip
+
+
+@pytest.mark.parametrize("stages", [(), LAYERS], ids=["network", "stages"])
+def test_several_worlds_give_what_each_world_gives_alone(stages: tuple[Stage, ...]) -> None:
+    """Also behind stages that remember per robot: each world's are fresh, and each robot's
+    state its own."""
     rng = np.random.default_rng(1)
     weights = rng.normal(size=(UGV.n_inputs, 2))
     seen: list[np.ndarray] = []
@@ -110,10 +124,10 @@ def test_several_worlds_give_what_each_world_gives_alone() -> None:
     ]
     mixed = [SCENARIOS[0], elsewhere[0], SCENARIOS[1], SCENARIOS[2], elsewhere[1]]
     budgets = [30.0, 20.0, 10.0, 5.0, 40.0]
-    batch = run_episodes(mixed, UGV, linear, time_budgets=budgets)
+    batch = run_episodes(mixed, UGV, linear, time_budgets=budgets, stages=stages)
     assert {int(i) for chunk in seen for i in chunk} == set(range(5))  # the caller's indices
     for i, sc in enumerate(mixed):  # robot i alone, in its own world, with its own budget
-        alone = run_episodes([sc], UGV, linear, time_budgets=[budgets[i]])
+        alone = run_episodes([sc], UGV, linear, time_budgets=[budgets[i]], stages=stages)
         for name in ("reached", "collided", "timed_out", "time_used", "final_distance", "steps"):
             assert getattr(batch, name)[i] == getattr(alone, name)[0], name
         t = alone.trajectories[0]

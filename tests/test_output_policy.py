@@ -107,6 +107,23 @@ def test_bench_never_replaces_an_input_it_reads(
     assert contents(validation_bench) == before
 
 
+def test_neither_command_replaces_the_deployment_file_it_reads(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], no_work: None
+) -> None:
+    """A deployment file (``--deployment FILE``) is an input like a genome."""
+    deployment = tmp_path / "deployment.yaml"
+    deployment.write_text("stages:\n  collision_guard: {memory: 3}\n")
+    before = deployment.read_bytes()
+    line = refused(bench.main, [*BENCH_TINY, "--deployment", deployment, "--out", tmp_path,
+                                "--force"], capsys)  # fmt: skip
+    assert f"--out {tmp_path}: holds the input {deployment}" in line
+    for flag in ("--out", "--record"):
+        argv = [PLANNER, "--bag", UNSEEN_SWARM, "--deployment", deployment, flag, deployment]
+        line = refused(evaluate.main, [*argv, "--force"], capsys)
+        assert f"{flag} {deployment}: is an input" in line
+    assert deployment.read_bytes() == before
+
+
 def test_bench_replaces_an_earlier_benchmark_only_with_force(
     validation_bench: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -191,13 +208,22 @@ def test_error_text_never_formats_an_unbounded_value() -> None:
     assert short_repr(10**5000) == "<int>"  # past Python's 4300 digits
 
 
-@pytest.mark.parametrize("where", ["config", "set", "world", "map", "bag"])
+@pytest.mark.parametrize(
+    "where", ["config", "set", "world", "map", "bag", "deployment", "deployment-set"]
+)
 def test_deep_nesting_is_one_line_naming_the_file(
     where: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], no_work: None
 ) -> None:
     deep = tmp_path / "deep.yaml"
     deep.write_text(f"value: {DEEP}\n")
-    if where in ("config", "set"):
+    if where == "deployment":
+        line = refused(evaluate.main, [PLANNER, "--bag", UNSEEN_SWARM, "--deployment", deep],
+                       capsys)  # fmt: skip
+        assert line == refused(bench.main, [PLANNER, *BENCH_TINY, "--deployment", deep],
+                               capsys).replace("mentor-bench", "mentor-eval")  # fmt: skip
+    elif where == "deployment-set":
+        line = refused(bench.main, [*BENCH_TINY, "--set", f"scan_map={DEEP}"], capsys)
+    elif where in ("config", "set"):
         config = ["--config", deep] if where == "config" else ["--set", f"n_scenarios={DEEP}"]
         argv = ["--robot", "swarm", "--framework", "dual", *config, "--out", tmp_path / "r"]
         line = refused(train.main, argv, capsys)
@@ -210,7 +236,7 @@ def test_deep_nesting_is_one_line_naming_the_file(
     else:
         line = refused(evaluate.main, [PLANNER, "--robot", "swarm", f"--{where}", deep], capsys)
     assert f"nested deeper than {YAML_MAX_DEPTH} levels" in line
-    if where != "set":
+    if where not in ("set", "deployment-set"):
         assert str(deep) in line
 
 

@@ -13,6 +13,7 @@ from memory_support import latch
 
 from mentor_core.benchmark.contenders import hand_written
 from mentor_core.benchmark.suite import reference_profile
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.errors import ConfigError
 from mentor_core.evolution.genome import Genome, minimal_genome
 from mentor_core.evolution.innovation import InnovationTracker
@@ -20,7 +21,6 @@ from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata, save_genome
 from mentor_core.runtime.planner import DecisionGate, GenomePlanner, planner_profile
 from mentor_core.sim import observation
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario, World

@@ -1,5 +1,7 @@
 """The planner node in a real rclpy graph: the trainer's decisions, once per observation; zero
-Twists on stale or missing data; one-line errors for a corrupt genome or an unknown profile."""
+Twists on stale or missing data; one-line errors for a corrupt genome or an unknown profile;
+the genome run as its deployment (``deployment``, ``deployment_set``) through the same stages
+as the planner in process."""
 
 from __future__ import annotations
 
@@ -17,7 +19,6 @@ from memory_support import latch
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
 from nav_msgs.msg import Path as PathMsg
-from rclpy.exceptions import ParameterException
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from ros_support import REGRESSION, Graph, params, run_executable
@@ -26,12 +27,17 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
-from mentor_core.errors import ConfigError, FileFormatError, MentorError
-from mentor_core.files.genome_file import save_genome
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.rotation_shim import RotationShim
+from mentor_core.controller.stage import Stage
+from mentor_core.controller.turn_gain import TurnGain
+from mentor_core.controller.view_corridor import ViewCorridor
+from mentor_core.errors import ConfigError, FileFormatError
+from mentor_core.files.genome_file import load_genome_and_metadata, save_genome
 from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.scan_map import scan_map_resolution
 from mentor_core.runtime.guided_planner import GuidedPlanner
-from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.planner import GenomePlanner, genome_profile
 from mentor_core.runtime.wiring import Wiring, wire_pose
 from mentor_core.sim.lidar import LidarSpec, lidar_scan
 from mentor_core.sim.planner_settings import with_planner
@@ -74,9 +80,24 @@ class Robot:
 
 
 def _planner(graph: Graph, **values: Any) -> PlannerNode:
+    """The node under test; ``deployment_set``, a list of strings, is a string array."""
     values = {"genome": str(GENOME), "profile": "swarm", "use_sim_time": True, **values}
     return graph.add(PlannerNode(context=graph.context, namespace=NS,
                                  parameter_overrides=params(**values)))
+
+
+def _reference(*stages: Stage) -> GenomePlanner:
+    """The regression genome's planner in process through ``stages``, built without a
+    deployment."""
+    genome, _ = load_genome_and_metadata(GENOME)
+    return GenomePlanner(genome, genome_profile(GENOME, "swarm"), str(GENOME), stages=stages)
+
+
+def _one_line_refusal(graph: Graph, key: str, **values: Any) -> None:
+    """The node refuses ``values`` with one ConfigError line naming the deployment's ``key``."""
+    with pytest.raises(ConfigError, match=key.replace(".", r"\.") + ": ") as err:
+        _planner(graph, **values)
+    assert "\n" not in str(err.value)
 
 
 def test_answers_each_observation_once_with_the_trainers_decision(graph: Graph) -> None:
@@ -108,7 +129,9 @@ def test_answers_each_observation_once_with_the_trainers_decision(graph: Graph) 
 def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
     graph: Graph, capfd: pytest.CaptureFixture[str]
 ) -> None:
-    planner = _planner(graph, control_period=0.5)  # stale after 1.5 wall s
+    # two decisions in the genome's period of 1 s: stale after 3 periods, 1.5 wall s
+    planner = _planner(graph, deployment_set=["decisions_per_period=2"])
+    assert planner.control_period == 0.5
     robot = Robot(graph)
     t = 0
     began = time.monotonic()
@@ -142,7 +165,7 @@ def test_the_watchdog_stops_the_robot_when_sim_time_stops(
 ) -> None:
     """Failed before: with use_sim_time and the simulator gone, the watchdog ran on the stopped
     sim clock: no zero Twist and no warning for as long as one waited."""
-    planner = _planner(graph, control_period=0.5)
+    planner = _planner(graph, deployment_set=["decisions_per_period=2"])  # 0.5 s periods
     robot = Robot(graph)
     robot.tick(5 * 10**9)
     robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
@@ -204,6 +227,10 @@ def test_bad_genome_or_profile_raises_one_line(graph: Graph, tmp_path: Path) -> 
     [
         (["-p", "genome:={corrupt}", "-p", "profile:=swarm"], "corrupt.json: "),
         (["-p", f"genome:={GENOME}", "-p", "profile:=tank"], "unknown robot 'tank'"),
+        (["-p", f"genome:={GENOME}", "-p", "profile:=swarm",
+          "-p", "deployment_set:=[stages.turn_gain.gain=1.5]"], "stages.turn_gain.gain: "),
+        (["-p", f"genome:={GENOME}", "-p", "profile:=swarm", "-p", "deployment:={corrupt}"],
+         "corrupt.json: "),
     ],
 )
 def test_planner_executable_exits_nonzero_on_bad_input(
@@ -367,11 +394,11 @@ def test_the_goal_radius_changes_at_run_time_and_a_reached_goal_stops_the_robot(
 def test_behind_a_rotation_shim_the_node_turns_onto_a_goal_behind_it_first(
     graph: Graph,
 ) -> None:
-    planner = _planner(graph, rotation_shim_deg=45.0)
+    planner = _planner(graph, deployment_set=["stages.rotation_shim.threshold_deg=45"])
     assert planner.planner is not None
-    assert planner.planner.profile.rotation_shim == pytest.approx(math.pi / 4)
+    assert planner.planner.stages == (RotationShim(threshold_deg=45.0),)
     robot = Robot(graph)
-    reference = GenomePlanner.load(GENOME, "swarm", math.pi / 4)
+    reference = _reference(RotationShim(threshold_deg=45.0))
     robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
     pose = (2.0, 1.0, 0.0)  # the goal straight behind
     assert graph.spin_until(lambda: robot.observe(10**9, [0.5, 0.5, 0.5], pose)
@@ -384,13 +411,18 @@ def test_behind_a_rotation_shim_the_node_turns_onto_a_goal_behind_it_first(
     assert abs(got.angular.z) == pytest.approx(min(math.pi, limit) / SWARM.control_period)
 
 
-def test_behind_a_collision_guard_the_node_backs_out_of_a_wedge(graph: Graph) -> None:
+def test_behind_a_collision_guard_the_node_backs_out_of_a_wedge(
+    graph: Graph, tmp_path: Path
+) -> None:
     # the reference genome's body 5 mm before a wall it faces (x = 5 m; readings of a wall
     # there): its own decision sweeps a corner into the wall, the guard backs it up instead
-    planner = _planner(graph, collision_guard=True)
-    assert planner.planner is not None and planner.planner.profile.collision_guard
+    deployment = tmp_path / "guarded.yaml"
+    deployment.write_text("stages:\n  collision_guard: {memory: 3}\n")
+    planner = _planner(graph, deployment=str(deployment))
+    assert planner.planner is not None
+    assert planner.planner.stages == (CollisionGuardStage(memory=3),)
     robot = Robot(graph)
-    reference = GenomePlanner.load(GENOME, "swarm", collision_guard=True)
+    reference = _reference(CollisionGuardStage(memory=3))
     robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 9.0), Time()))
     pose = (5.0 - 0.5 * SWARM.length - 0.005, 3.0, 0.0)
     ranges = [0.005 * math.sqrt(2.0), 0.005, 0.005 * math.sqrt(2.0)]
@@ -428,7 +460,8 @@ def test_along_a_given_path_the_node_decides_in_map_through_map_to_odom(graph: G
 
 
 def test_a_scan_map_of_size_0_covers_the_arena_in_the_odometry_frame(graph: Graph) -> None:
-    planner = _planner(graph, scan_map=True, use_tf=False, map_to_odom=[1.0, 0.5, math.pi / 2])
+    planner = _planner(graph, deployment_set=["scan_map={}"], use_tf=False,
+                       map_to_odom=[1.0, 0.5, math.pi / 2])  # fmt: skip
     assert planner.global_plan is not None and not planner.global_plan.ready
     arena = graph.probe("sim_markers").create_publisher(MarkerArray, "/mentor/obstacles",
                                                         QOS_LATCHED)  # fmt: skip
@@ -440,31 +473,49 @@ def test_a_scan_map_of_size_0_covers_the_arena_in_the_odometry_frame(graph: Grap
     assert scan.hits.shape[0] * scan.resolution == pytest.approx(4.0)
 
 
-@pytest.mark.parametrize("cell", [0.0, 0.1])
-def test_the_scan_maps_cell_is_the_profiles_unless_given(graph: Graph, cell: float) -> None:
-    planner = _planner(graph, scan_map=True, scan_map_size=4.0, scan_map_resolution=cell)
+@pytest.mark.parametrize("cell", [None, 0.1])
+def test_the_scan_maps_cell_is_the_profiles_unless_given(
+    graph: Graph, cell: float | None
+) -> None:
+    setting = "scan_map={}" if cell is None else f"scan_map.resolution={cell}"
+    planner = _planner(graph, deployment_set=[setting], scan_map_size=4.0)
     guide = planner.global_plan.planner.scan  # type: ignore[union-attr]
     want = cell or scan_map_resolution(get_profile("swarm"))
     assert guide.map.resolution == want and guide.guide.config.resolution == want
     assert guide.map.hits.shape == (round(4.0 / want),) * 2
 
 
-@pytest.mark.parametrize(("cost", "want"), [(-1.0, 1.0), (0.0, 0.0), (2.0, 2.0)])
+@pytest.mark.parametrize(("cost", "want"), [(None, 1.0), (0.0, 0.0), (2.0, 2.0)])
 def test_the_scan_map_plans_clearance_cost_is_the_robots_unless_given(
-    graph: Graph, cost: float, want: float
+    graph: Graph, cost: float | None, want: float
 ) -> None:
-    planner = _planner(graph, scan_map=True, scan_map_size=4.0, scan_map_clearance_cost=cost)
+    setting = "scan_map={}" if cost is None else f"scan_map.clearance_cost={cost}"
+    planner = _planner(graph, deployment_set=[setting], scan_map_size=4.0)
     guide = planner.global_plan.planner.scan  # type: ignore[union-attr]
     assert guide.guide.config.clearance_cost == want  # the Swarm-Robot's: 1
     assert guide.guide.planner is not None
     assert guide.guide.planner.clearance_cost == want
 
 
+@pytest.mark.parametrize(
+    ("setting", "key"),
+    [("scan_map.resolution=0", "scan_map.resolution"),
+     ("scan_map.clearance_cost=-1", "scan_map.clearance_cost"),
+     ("scan_map.lookahead=-0.5", "scan_map.lookahead"),
+     ("scan_map.cell=0.1", "scan_map.cell")],
+)  # fmt: skip
+def test_a_bad_scan_map_setting_is_refused_in_one_line(
+    graph: Graph, setting: str, key: str
+) -> None:
+    _one_line_refusal(graph, key, deployment_set=[setting], scan_map_size=4.0)
+
+
 @pytest.mark.parametrize("keep", [False, True])
 def test_a_kept_scan_map_lasts_across_goals_until_an_episode_starts(
     graph: Graph, keep: bool
 ) -> None:
-    planner = _planner(graph, scan_map=True, scan_map_size=4.0, scan_map_keep=keep)
+    planner = _planner(graph, deployment_set=["scan_map={}"], scan_map_size=4.0,
+                       scan_map_keep=keep)  # fmt: skip
     robot = Robot(graph)
     events = graph.probe("sim_events").create_publisher(String, f"{NS}/events", QOS_EVENTS)
     maps: list[OccupancyGridMsg] = []
@@ -479,13 +530,15 @@ def test_a_kept_scan_map_lasts_across_goals_until_an_episode_starts(
     assert maps[-1].header.frame_id == "odom" and list(maps[-1].data).count(100) == 3
 
     robot.goal.publish(sim_conv.pose_stamped_from_goal((2.0, 3.0), Time()))  # the next goal
-    assert graph.spin_until(lambda: len(robot.commands) > 1)
+    # (decisions, not commands: on a slow machine the watchdog may have sent a zero Twist)
+    assert graph.spin_until(lambda: planner.decisions > 1)
     kept = planner.global_plan.planner.scan  # type: ignore[union-attr]
     # the same scan answered for the new goal: read once more into the kept map, or once
     # into a new one
     assert (kept is scan) == keep and kept.map.hits.sum() == (6 if keep else 3)
     events.publish(sim_conv.event_string("started", 0, 2 * 10**9, (2.0, 3.0)))  # an episode
-    _answered(graph, robot, planner, 2, [math.inf] * 3, (1.0, 1.0, 0.0))
+    assert graph.spin_until(lambda: robot.observe(2 * 10**9, [math.inf] * 3, (1.0, 1.0, 0.0))
+                            or planner.decisions > 2)  # fmt: skip
     fresh = planner.global_plan.planner.scan  # type: ignore[union-attr]
     assert fresh is not scan and not (fresh.map.data == 100).any()
 
@@ -514,15 +567,23 @@ def test_a_genome_that_decides_twice_a_second_sets_the_nodes_period(
 
 
 def test_a_rotation_shim_beyond_a_half_turn_is_refused(graph: Graph) -> None:
-    with pytest.raises(MentorError, match="rotation_shim_deg"):
-        _planner(graph, rotation_shim_deg=270.0)
+    _one_line_refusal(graph, "stages.rotation_shim.threshold_deg",
+                      deployment_set=["stages.rotation_shim.threshold_deg=270"])  # fmt: skip
 
 
 def test_with_a_turn_gain_the_node_answers_as_the_planner_with_that_gain(graph: Graph) -> None:
-    planner = _planner(graph, turn_gain=0.75)
-    assert planner.planner is not None and planner.planner.profile.turn_gain == 0.75
+    # the string array as rclpy types it explicitly (``_planner`` lets rclpy infer it)
+    typed = Parameter("deployment_set", Parameter.Type.STRING_ARRAY,
+                      ["stages.turn_gain.gain=0.75"])  # fmt: skip
+    planner = graph.add(PlannerNode(
+        context=graph.context, namespace=NS,
+        parameter_overrides=[*params(genome=str(GENOME), profile="swarm", use_sim_time=True),
+                             typed],
+    ))  # fmt: skip
+    assert planner.planner is not None
+    assert planner.planner.stages == (TurnGain(gain=0.75),)
     robot = Robot(graph)
-    reference = GenomePlanner.load(GENOME, "swarm", turn_gain=0.75)
+    reference = _reference(TurnGain(gain=0.75))
     robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
     pose = (1.4, 1.1, 2.0)
     assert graph.spin_until(lambda: robot.observe(10**9, [0.5, 0.5, 0.5], pose)
@@ -531,10 +592,10 @@ def test_with_a_turn_gain_the_node_answers_as_the_planner_with_that_gain(graph: 
     assert (got.linear.x, got.angular.z) == reference.command([0.5, 0.5, 0.5], pose, (1.0, 1.0))
 
 
-@pytest.mark.parametrize("gain", [0.0, 1.5])
-def test_a_turn_gain_outside_zero_to_one_is_refused(graph: Graph, gain: float) -> None:
-    with pytest.raises(MentorError, match="turn_gain"):
-        _planner(graph, turn_gain=gain)
+@pytest.mark.parametrize("gain", ["0", "1.5", "fast"])
+def test_a_turn_gain_outside_zero_to_one_is_refused(graph: Graph, gain: str) -> None:
+    _one_line_refusal(graph, "stages.turn_gain.gain",
+                      deployment_set=[f"stages.turn_gain.gain={gain}"])  # fmt: skip
 
 
 def test_with_a_view_margin_the_node_answers_as_the_planner_with_that_corridor(
@@ -542,10 +603,11 @@ def test_with_a_view_margin_the_node_answers_as_the_planner_with_that_corridor(
 ) -> None:
     """The readings beside the way to the goal read as nothing seen, as in the episodes;
     the command differs from the plain planner's."""
-    planner = _planner(graph, view_margin=0.1)
-    assert planner.planner is not None and planner.planner.profile.view_margin == 0.1
+    planner = _planner(graph, deployment_set=["stages.view_corridor.margin=0.1"])
+    assert planner.planner is not None
+    assert planner.planner.stages == (ViewCorridor(margin=0.1),)
     robot = Robot(graph)
-    reference = GenomePlanner.load(GENOME, "swarm", view_margin=0.1)
+    reference = _reference(ViewCorridor(margin=0.1))
     robot.goal.publish(sim_conv.pose_stamped_from_goal((1.0, 1.0), Time()))
     pose, readings = (1.4, 1.1, 2.0), [0.5, 0.5, 0.5]
     assert graph.spin_until(lambda: robot.observe(10**9, readings, pose)
@@ -553,17 +615,46 @@ def test_with_a_view_margin_the_node_answers_as_the_planner_with_that_corridor(
     got = robot.commands[0]
     expected = reference.command(readings, pose, (1.0, 1.0))
     assert (got.linear.x, got.angular.z) == expected
-    assert expected != GenomePlanner.load(GENOME, "swarm").command(readings, pose, (1.0, 1.0))
+    assert expected != _reference().command(readings, pose, (1.0, 1.0))
 
 
-def test_a_view_margin_of_zero_keeps_the_genomes_own(graph: Graph) -> None:
-    """The regression genome was trained without a corridor: 0 leaves it without one."""
-    planner = _planner(graph, view_margin=0.0)
-    assert planner.planner is not None and planner.planner.profile.view_margin is None
+def test_without_a_deployment_the_node_keeps_the_stages_the_genome_was_trained_with(
+    graph: Graph, tmp_path: Path
+) -> None:
+    """The regression genome was trained without a corridor: it runs without one. A genome
+    trained with one (metadata ``view_margin``) keeps it, unless the deployment sets its own."""
+    planner = _planner(graph)
+    assert planner.planner is not None and planner.planner.stages == ()
+    doc = json.loads(GENOME.read_text())
+    doc["metadata"]["view_margin"] = 0.2
+    viewed = tmp_path / "viewed.json"
+    viewed.write_text(json.dumps(doc))
+    trained = _planner(graph, genome=str(viewed), goal_pose_topic="")
+    assert trained.planner is not None
+    assert trained.planner.stages == (ViewCorridor(margin=0.2),)
+    replaced = _planner(graph, genome=str(viewed), goal_pose_topic="",
+                        deployment_set=["stages.view_corridor.margin=0.1"])  # fmt: skip
+    assert replaced.planner is not None
+    assert replaced.planner.stages == (ViewCorridor(margin=0.1),)
 
 
-@pytest.mark.parametrize("margin", [-0.1, math.inf])
-def test_a_negative_or_endless_view_margin_is_refused(graph: Graph, margin: float) -> None:
-    # the declared range refuses them before the node's check (run_node: one line, 2)
-    with pytest.raises((MentorError, ParameterException), match="view_margin"):
-        _planner(graph, view_margin=margin)
+@pytest.mark.parametrize("margin", ["-0.1", "0"])
+def test_a_negative_or_zero_view_margin_is_refused(graph: Graph, margin: str) -> None:
+    _one_line_refusal(graph, "stages.view_corridor.margin",
+                      deployment_set=[f"stages.view_corridor.margin={margin}"])  # fmt: skip
+
+
+def test_the_shipped_deployment_runs_the_shipped_stages_at_half_the_period(
+    graph: Graph,
+) -> None:
+    """``deployment: shipped`` runs the Swarm-Robot's shipped stages (view corridor, gain on
+    the turn, rotation shim, collision guard) at two decisions a trained period, on a scan map
+    whose plan keeps clear of what was read."""
+    planner = _planner(graph, deployment="shipped", scan_map_size=4.0)
+    assert planner.planner is not None
+    assert planner.planner.stages == (
+        ViewCorridor(margin=0.1), TurnGain(gain=0.75), RotationShim(threshold_deg=45.0),
+        CollisionGuardStage(memory=3))  # fmt: skip
+    assert planner.control_period == planner.planner.profile.control_period == 0.5
+    guide = planner.global_plan.planner.scan  # type: ignore[union-attr]
+    assert guide.guide.config.clearance_cost == 1.0

@@ -7,7 +7,6 @@ their logic runs on a pip-only machine too."""
 from __future__ import annotations
 
 import importlib.util
-import math
 import sys
 import types
 from pathlib import Path
@@ -15,12 +14,18 @@ from typing import Any
 
 import pytest
 
-from mentor_core import FileFormatError, MentorError, get_profile
-from mentor_core.benchmark.contenders import as_deployed, evolved
+from mentor_core import ConfigError, FileFormatError, MentorError, get_profile
+from mentor_core.benchmark.contenders import evolved
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.deployment import load_deployment
+from mentor_core.controller.rotation_shim import RotationShim
+from mentor_core.controller.turn_gain import TurnGain
+from mentor_core.controller.view_corridor import ViewCorridor
+from mentor_core.runtime.planner import deployed_genome
 from mentor_core.runtime.robot_graph import (
     default_genome,
-    headline_parameters,
     parse_genomes,
+    planner_period,
     robot_names,
     robot_planners,
     simulator_period,
@@ -60,22 +65,30 @@ def test_each_robot_plans_with_its_profiles_genome_or_the_reference() -> None:
     assert all(p.parameters["decide_on_timer"] for p in named)
 
 
+#: the shipped deployments' stages
+SHIPPED_STAGES = {
+    "ugv": (RotationShim(threshold_deg=45.0), CollisionGuardStage(memory=3)),
+    "swarm": (ViewCorridor(margin=0.1), TurnGain(gain=0.75), RotationShim(threshold_deg=45.0),
+              CollisionGuardStage(memory=3)),
+}  # fmt: skip
+
+
 @pytest.mark.parametrize("robot, genome", [("ugv", UGV), ("swarm", SWARM)])
-def test_headline_planners_run_as_the_benchmark_scores_them(robot: str, genome: str) -> None:
-    """The node parameters of ``headline`` give the planner node the profile that
-    ``mentor-bench --deployed`` scores: the same shim, guard and gain on the turn."""
-    (planner,) = robot_planners([robot], {robot: genome}, headline=True)
+def test_shipped_planners_run_as_the_benchmark_scores_them(robot: str, genome: str) -> None:
+    """The node parameters of ``deployment="shipped"`` give the planner node (which loads
+    them as ``mentor_planner_node.params`` does) the planner that ``mentor-bench --deployment
+    shipped`` scores: the same stages, period and scan map."""
+    (planner,) = robot_planners([robot], {robot: genome}, deployment="shipped")
     values = planner.parameters
-    deployed = as_deployed(evolved(ROOT / genome, get_profile(robot))).profile
-    assert values["scan_map"] is True
-    assert values["collision_guard"] is deployed.collision_guard is True
-    assert deployed.rotation_shim is not None
-    assert math.radians(values["rotation_shim_deg"]) == pytest.approx(deployed.rotation_shim)
-    assert values["turn_gain"] == deployed.turn_gain == (0.75 if robot == "swarm" else 1.0)
-    assert values["view_margin"] == (deployed.view_margin or 0.0)
-    assert values["view_margin"] == (0.1 if robot == "swarm" else 0.0)
-    assert values["control_period"] == deployed.control_period == (
-        0.5 if robot == "swarm" else 0.25)
+    assert values == {"genome": genome, "profile": robot, "deployment": "shipped"}
+    deployment = load_deployment(values["deployment"], values["profile"])[0]
+    node = deployed_genome(values["genome"], values["profile"], deployment)[1]
+    bench = evolved(ROOT / genome, get_profile(robot), deployment=deployment)
+    assert node.stages == bench.stages == SHIPPED_STAGES[robot]
+    assert node.guide is not None and node.guide == bench.guide
+    assert node.guide.clearance_cost == (1.0 if robot == "swarm" else 0.0)
+    assert planner_period(planner) == node.profile.control_period == bench.profile.control_period
+    assert planner_period(planner) == (0.5 if robot == "swarm" else 0.25)
 
 
 def test_a_bad_robot_list_is_refused_in_one_line(tmp_path: Path) -> None:
@@ -90,6 +103,14 @@ def test_a_bad_robot_list_is_refused_in_one_line(tmp_path: Path) -> None:
     missing = str(tmp_path / "gone.json")
     with pytest.raises(FileFormatError, match=f"{missing}: no such genome file"):
         robot_planners(["ugv"], {"ugv": missing})
+    # a deployment that cannot be read, before any node starts
+    with pytest.raises(FileFormatError, match=r"gone\.yaml: no such file"):
+        robot_planners(["ugv"], deployment=str(tmp_path / "gone.yaml"))
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("decisions_per_period: 0\n")
+    with pytest.raises(ConfigError, match="decisions_per_period: must be >= 1") as err:
+        robot_planners(["ugv", "swarm"], {"ugv": UGV}, deployment=str(bad))
+    assert "\n" not in str(err.value)
 
 
 def test_the_simulator_steps_at_the_genomes_period() -> None:
@@ -100,6 +121,13 @@ def test_the_simulator_steps_at_the_genomes_period() -> None:
     assert simulator_period(both, continuous=True) == 0.5
     with pytest.raises(MentorError, match=r"different periods \(0.5, 1 s\); run them with -c"):
         simulator_period(both, continuous=False, continuous_hint="-c")
+    # as deployed: at twice the decisions of their genomes
+    shipped = robot_planners(["ugv", "swarm"], {"ugv": UGV, "swarm": SWARM},
+                             deployment="shipped")  # fmt: skip
+    assert [planner_period(p) for p in shipped] == [0.25, 0.5]
+    assert simulator_period(shipped, continuous=True) == 0.25
+    with pytest.raises(MentorError, match=r"different periods \(0.25, 0.5 s\)"):
+        simulator_period(shipped, continuous=False)
 
 
 # --- the launch files with stand-ins for launch, launch_ros and ament_index_python ---------
@@ -187,57 +215,70 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     launch_file: types.ModuleType,
 ) -> None:
     arguments = {"profiles": "ugv,swarm", "genomes": f"ugv={UGV},swarm={SWARM}",
-                 "headline": "true"}  # fmt: skip
+                 "deployment": "shipped"}  # fmt: skip
     with pytest.raises(MentorError, match="continuous:=true"):
         _launch(launch_file, **arguments)
     sim, ugv, swarm = _launch(launch_file, continuous="true", **arguments)
     (sim_values,) = sim["parameters"]
     assert sim_values["robots"] == ["ugv_0", "swarm_0"]
     assert sim_values["profiles"] == ["ugv", "swarm"]
-    assert sim_values["control_period"] == 0.25  # the UGV's headline period, the shorter
+    assert sim_values["control_period"] == 0.25  # the UGV's deployed period, the shorter
     assert sim_values["real_time_factor"] == 1.0
     (values,) = swarm["parameters"]
-    assert values["genome"] == SWARM and values["decide_on_timer"] is True
-    assert values["scan_map"] is True and values["turn_gain"] == 0.75
-    assert values["view_margin"] == 0.1
-    assert ugv["namespace"] == "ugv_0" and ugv["parameters"][0]["turn_gain"] == 1.0
-    assert ugv["parameters"][0]["view_margin"] == 0.0
-    assert ugv["parameters"][0]["control_period"] == 0.25 and values["control_period"] == 0.5
+    assert values == {"genome": SWARM, "profile": "swarm", "deployment": "shipped",
+                      "decide_on_timer": True, "use_sim_time": True}  # fmt: skip
+    assert ugv["namespace"] == "ugv_0" and ugv["parameters"][0]["deployment"] == "shipped"
+    # no deployment: the planners' parameters name none (the node's default, "none")
+    _, plain = _launch(launch_file, robots="robot_0")
+    assert "deployment" not in plain["parameters"][0]
 
 
+#: the node parameters the deployment replaced
 LAYERS = ("control_period", "scan_map", "rotation_shim_deg", "collision_guard", "turn_gain",
-          "view_margin")
+          "view_margin", "scan_map_resolution", "scan_map_clearance_cost")  # fmt: skip
 
 
-def test_the_planner_launch_file_runs_a_headline_planner_as_the_benchmark_scores_it(
+def _performed(values: dict[str, Any], context: dict[str, str]) -> dict[str, Any]:
+    """The node's parameters with each launch argument's text in place of its substitution."""
+    def text(value: Any) -> Any:
+        if isinstance(value, _Value):
+            return text(value.value)
+        return value.perform(context) if isinstance(value, _Config) else value
+
+    return {name: text(value) for name, value in values.items()}
+
+
+def test_the_planner_launch_file_runs_a_deployment_as_the_benchmark_scores_it(
     planner_launch_file: types.ModuleType,
 ) -> None:
-    """``headline:=true`` gives the layers of ``mentor-bench --deployed``; a layer given as
-    well wins; without it the node keeps its own defaults."""
-    (plain,) = _launch(planner_launch_file, genome=UGV)
+    """``deployment:=shipped`` (or a file) reaches the node as its ``deployment``, which the
+    node runs as ``mentor-bench --deployment`` does; without it the node runs the genome as
+    trained (``none``), and none of the parameters the deployment replaced is given."""
+    module = planner_launch_file
+    (plain,) = _launch(module, genome=UGV)
     (values,) = plain["parameters"]
     assert not set(LAYERS) & set(values)
-    (swarm,) = _launch(planner_launch_file, genome=SWARM, profile="swarm", headline="true")
-    (values,) = swarm["parameters"]
-    assert {k: values[k] for k in LAYERS} == headline_parameters("swarm", SWARM)
-    assert values["turn_gain"] == 0.75 and values["view_margin"] == 0.1
-    assert values["scan_map"] is True
-    (ugv,) = _launch(planner_launch_file, genome=UGV, headline="true", turn_gain="0.9",
-                     collision_guard="false", view_margin="0.3")
-    (values,) = ugv["parameters"]
-    assert values["turn_gain"] == 0.9 and values["collision_guard"] is False
-    assert values["view_margin"] == 0.3
-    assert values["rotation_shim_deg"] == 45.0 and values["scan_map"] is True
-    with pytest.raises(MentorError, match="turn_gain:=fast: expected a number"):
-        _launch(planner_launch_file, genome=UGV, turn_gain="fast")
-    with pytest.raises(MentorError, match="collision_guard:=ture: expected true or false"):
-        _launch(planner_launch_file, genome=UGV, collision_guard="ture")
+    context = {**module.ARGUMENTS, "genome": UGV}
+    assert _performed(values, context)["deployment"] == "none"
+    for deployment in ("shipped", "my_deployment.yaml"):
+        context = {**module.ARGUMENTS, "genome": SWARM, "profile": "swarm",
+                   "deployment": deployment}  # fmt: skip
+        (node,) = _launch(module, **context)
+        (values,) = node["parameters"]
+        assert not set(LAYERS) & set(values)
+        performed = _performed(values, context)
+        assert performed["deployment"] == deployment
+        assert (performed["genome"], performed["profile"]) == (SWARM, "swarm")
+        assert performed["decide_on_timer"] is True and performed["scan_kind"] == "lidar"
 
 
 def test_the_launch_files_refuse_a_mistyped_argument_in_one_line(
     launch_file: types.ModuleType,
 ) -> None:
     for name, text in (("continuous", "maybe"), ("rviz", "ture"), ("lidar_rays", "-3"),
-                       ("real_time_factor", "fast"), ("headline", "yess")):  # fmt: skip
+                       ("real_time_factor", "fast")):  # fmt: skip
         with pytest.raises(MentorError, match=f"{name}:={text}: expected"):
             _launch(launch_file, **{name: text})
+    # a deployment that is neither none, shipped nor a file: one line naming it
+    with pytest.raises(FileFormatError, match="shiped: no such file"):
+        _launch(launch_file, deployment="shiped")

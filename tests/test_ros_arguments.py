@@ -62,17 +62,18 @@ def test_a_launch_flag_reads_as_ros_launch_conditions_do(text: str, flag: bool) 
 
 @pytest.mark.parametrize("text", ["ture", "", "2", "on"])
 def test_a_mistyped_launch_flag_is_one_line_naming_it(text: str) -> None:
-    """Before, anything but true/1/yes read as false: ``collision_guard:=ture`` ran unguarded."""
-    with pytest.raises(MentorError, match=f"collision_guard:={text}: expected true or false"):
-        launch_flag("collision_guard", text)
+    """Before, anything but true/1/yes read as false: ``collision_guard:=ture`` (a launch
+    argument then) ran unguarded, ``continuous:=ture`` runs in lockstep."""
+    with pytest.raises(MentorError, match=f"continuous:={text}: expected true or false"):
+        launch_flag("continuous", text)
 
 
 def test_launch_numbers_and_counts_are_refused_in_one_line_naming_them() -> None:
-    assert launch_number("turn_gain", "0.75") == 0.75
+    assert launch_number("real_time_factor", "0.75") == 0.75
     assert launch_count("lidar_rays", "360") == 360
     for text in ("fast", "nan", "inf", ""):
-        with pytest.raises(MentorError, match=f"turn_gain:={text}: expected a number"):
-            launch_number("turn_gain", text)
+        with pytest.raises(MentorError, match=f"real_time_factor:={text}: expected a number"):
+            launch_number("real_time_factor", text)
     for text in ("-1", "3.5", "many"):
         with pytest.raises(MentorError, match=f"lidar_rays:={text}: expected a whole number"):
             launch_count("lidar_rays", text)

@@ -6,8 +6,8 @@ pymunk physics, the planner's :class:`GenomePlanner`, and the values a message c
 scan ranges, the heading through a quaternion, the decision through a Twist). Agreement is
 asserted within 1e-6 m; it is in fact exact.
 
-(The trainer's batched engine, :func:`mentor_core.sim.episode.run_episodes`, feeds its networks
-float64 readings; the float32 of a LaserScan changes the inputs by ~1e-7 relative, which a
+(The trainer's batched engine, :func:`mentor_core.controller.episodes.run_episodes`, feeds its
+networks float64 readings; the float32 of a LaserScan changes the inputs by ~1e-7 relative, which a
 trained network may amplify over tens of decisions, so ROS episodes are compared with the
 reference that mirrors the wire, not with the trainer's episodes. ``tests/test_simulator.py``
 compares the reference with the trainer's episodes for untrained networks.)
@@ -145,12 +145,14 @@ def test_robots_of_both_kinds_share_a_world_through_ros(graph: Graph) -> None:
     assert all(p.decisions > 0 and p.zero_commands == 0 for p in planners)
 
 
-# headline: each planner decides at half its genome's period, run here in continuous mode as
-# on a robot
+# the shipped deployment: each planner decides at half its genome's period, run here in
+# continuous mode as on a robot
 @pytest.mark.parametrize(
-    "mode", [[], ["--headline", "--continuous", "--real-time-factor", "10", "--time-limit", "8"]],
-    ids=["plain", "headline"],
-)
+    "mode",
+    [[], ["--deployment", "shipped", "--continuous", "--real-time-factor", "10", "--time-limit",
+          "8"]],
+    ids=["plain", "shipped-deployment"],
+)  # fmt: skip
 def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(
     tmp_path: Path, mode: list[str]
 ) -> None:
@@ -167,6 +169,22 @@ def test_the_demo_command_runs_the_simulator_and_a_planner_per_robot(
     assert len(lines) == 2 and all(line.startswith("episode 0: ") for line in lines)
     assert sorted(line.split()[2] for line in lines) == ["swarm_0", "ugv_0"]
     assert env["ROS_DOMAIN_ID"] == os.environ["ROS_DOMAIN_ID"]
+
+
+def test_the_demo_refuses_a_deployment_it_cannot_run_in_one_line(tmp_path: Path) -> None:
+    """Before any node starts: a missing file, a bad value (naming its key)."""
+    exe = ROOT / "ros2_ws/install/mentor_bringup/lib/mentor_bringup/demo"
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("stages:\n  turn_gain: {gain: 1.5}\n")
+    for deployment, fault in ((tmp_path / "missing.yaml", "missing.yaml: no such file"),
+                              (bad, "stages.turn_gain.gain: must be <= 1")):  # fmt: skip
+        proc = subprocess.run(
+            [str(exe), "--robots", "swarm", "--episodes", "1", "--deployment", str(deployment)],
+            cwd=ROOT, env=workspace_env(), capture_output=True, timeout=60,
+        )
+        err = proc.stderr.decode().strip().splitlines()
+        assert proc.returncode != 0 and len(err) == 1, err
+        assert err[0].startswith("demo: ") and fault in err[0], err
 
 
 def test_the_demo_runs_the_shipped_planners_of_both_robots_together_in_continuous_mode(

@@ -1,10 +1,11 @@
 """Global plans through ROS: the simulator on a ROS map with a dead end publishes /map, the
 planner node plans on it, steers round the dead end and reaches the goal, publishing the path
 it follows; the episode equals the in-process one (the same guide on the grid the wire
-carries) exactly. A path given on ``plan`` is followed instead of planning. With ``scan_map``
-the node plans on a map of its own scans, behind the rotation shim and the collision guard
-(and a view corridor to its carrot), as the benchmark's headline planners run, and the
-episode equals the in-process one."""
+carries) exactly. A path given on ``plan`` is followed instead of planning. With a deployment
+that has a ``scan_map`` (``deployment: shipped``, or a file) the node plans on a map of its own
+scans, behind the rotation shim and the collision guard (and a view corridor to its carrot),
+as ``mentor-bench --deployment`` runs the shipped planners, and the episode equals the
+in-process one."""
 
 from __future__ import annotations
 
@@ -16,13 +17,19 @@ from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Path as PathMsg
 from ros_support import REGRESSION, Graph, params
 
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.decision_split import at_control_period
+from mentor_core.controller.rotation_shim import RotationShim
+from mentor_core.controller.stage import Stage
+from mentor_core.controller.view_corridor import ViewCorridor
 from mentor_core.files.bags import read_episode_bag
+from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.navigation.grid import world_grid
 from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.map_file import save_map
 from mentor_core.navigation.scan_map import scan_guide_config
 from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner, wire_grid
-from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.runtime.planner import GenomePlanner, genome_profile
 from mentor_core.runtime.recording import recorded_episodes
 from mentor_core.runtime.scenario_plan import load_scenario_source, source_map
 from mentor_core.runtime.simulator import run_reference_episode
@@ -106,12 +113,29 @@ def test_the_planner_plans_on_the_simulators_map_and_leaves_the_dead_end(
     np.testing.assert_array_equal(poses[:, :2], ref.poses[:, :2])
 
 
-# the reference genome decides every 1 s; at 0.5 s each decision is half its step and turn
-@pytest.mark.parametrize("margin, period", [(None, None), (0.5, None), (None, 0.5)],
-                         ids=["all-seen", "view-corridor", "half-period"])  # fmt: skip
+#: a deployment file: the UGV's shipped one at its trained period, with a view corridor
+CORRIDOR_DEPLOYMENT = """\
+scan_map: {}
+stages:
+  view_corridor: {margin: 0.5}
+  rotation_shim: {threshold_deg: 45}
+  collision_guard: {memory: 3}
+"""
+
+
+# the reference genome decides every 1 s; the shipped UGV deployment decides twice in that
+# period, each decision half its step and turn
+@pytest.mark.parametrize(
+    "deployment, settings, margin, period",
+    [("shipped", ["decisions_per_period=1"], None, None),
+     ("corridor.yaml", [], 0.5, None),
+     ("shipped", [], None, 0.5)],
+    ids=["all-seen", "view-corridor", "half-period"],
+)  # fmt: skip
 def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchmark(
-    graph: Graph, tmp_path: Path, margin: float | None, period: float | None
-) -> None:
+    graph: Graph, tmp_path: Path, deployment: str, settings: list[str], margin: float | None,
+    period: float | None,
+) -> None:  # fmt: skip
     (tmp_path / "world.yaml").write_text(
         "format: mentor-world\nversion: 1\nsize: 12.0\n"
         f"obstacles: {DEAD_END.obstacles.tolist()}\n"
@@ -123,8 +147,11 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     maps: list[OccupancyGridMsg] = []
     probe.create_subscription(PathMsg, "/robot_0/global_plan", paths.append, QOS_PATH_OUT)
     probe.create_subscription(OccupancyGridMsg, "/robot_0/scan_map", maps.append, QOS_MAP)
-    planner = _planner(graph, scan_map=True, rotation_shim_deg=45.0, collision_guard=True,
-                       view_margin=margin or 0.0, control_period=period or 0.0)
+    if deployment.endswith(".yaml"):
+        (tmp_path / deployment).write_text(CORRIDOR_DEPLOYMENT)
+        deployment = str(tmp_path / deployment)
+    extra = {"deployment_set": settings} if settings else {}
+    planner = _planner(graph, deployment=deployment, **extra)
     assert planner.global_plan is not None and not planner.global_plan.ready  # no arena yet
     sim = _run_one_episode(graph, tmp_path / "world.yaml", bag, period or 0.0)
     graph.spin_until(lambda: bool(paths) and bool(maps), timeout=2.0)
@@ -134,12 +161,19 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
     assert 1 <= len(maps) <= len(paths) + sim.outcomes[0].time_used / MAP_EVERY_S + 1
     assert all(m.header.frame_id == "odom" for m in maps)
 
-    # the same episode in process: the genome behind the shim and a guard on no arena, on
-    # the map of what it read, as mentor-bench --scan-map --rotation-shim 45 runs it (with
-    # --view-margin: the corridor runs to the carrot the node steers to)
+    # the same episode in process, built without a deployment: the genome behind the shim
+    # and a guard on no arena, on the map of what it read, as mentor-bench --deployment
+    # shipped runs it (with a view corridor: it runs to the carrot the node steers to)
     source = load_scenario_source(world_file=tmp_path / "world.yaml")
-    plain = GenomePlanner.load(GENOME, "ugv", np.pi / 4, collision_guard=True,
-                               view_margin=margin, control_period=period)
+    genome, _ = load_genome_and_metadata(GENOME)
+    profile = genome_profile(GENOME, "ugv")
+    if period is not None:
+        profile = at_control_period(profile, period)
+    stages: tuple[Stage, ...] = (RotationShim(threshold_deg=45.0), CollisionGuardStage(memory=3))
+    if margin is not None:
+        stages = (ViewCorridor(margin=margin), *stages)
+    assert planner.planner is not None and planner.planner.stages == stages
+    plain = GenomePlanner(genome, profile, str(GENOME), stages=stages)
     mapped = ScanGuidedPlanner(plain, scan_guide_config(plain.profile), 12.0)
     run = recorded_episodes(read_episode_bag(bag), bag)[0]
     seen: list[np.ndarray] = []  # the map after each decision
@@ -165,8 +199,13 @@ def test_on_a_scan_map_behind_the_shim_and_the_guard_the_node_runs_as_the_benchm
 
 
 def test_a_global_plan_and_a_scan_map_at_once_are_refused(graph: Graph) -> None:
-    with pytest.raises(PlanSetupError, match="choose one"):
-        _planner(graph, global_plan=True, scan_map=True)
+    with pytest.raises(PlanSetupError, match="choose one") as err:
+        _planner(graph, global_plan=True, deployment="shipped")  # the UGV's has a scan map
+    assert "\n" not in str(err.value)
+    # the way out the refusal names: the shipped deployment without its scan map
+    planner = _planner(graph, global_plan=True, deployment="shipped",
+                       deployment_set=["scan_map=null"])  # fmt: skip
+    assert planner.global_plan is not None and not planner.global_plan.scan_map
 
 
 def test_a_given_path_is_followed_and_published(graph: Graph) -> None:

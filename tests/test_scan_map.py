@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN
 from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.scan_map import (
@@ -19,7 +20,6 @@ from mentor_core.navigation.scan_map import (
 )
 from mentor_core.runtime.guided_planner import ScanGuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.sensors import sensor_frames, sensor_readings
 from mentor_core.sim.world import Scenario, World

@@ -1,8 +1,8 @@
 """The planners shipped in ``planners/`` (planners/README.md): each is the best genome of a
 shipped paper-scale config's run, acts with that config's planner settings (so a change of the
 config that leaves them stale fails here), is the file README.md lists by its sha256, and, as
-deployed (on its scan map, behind the rotation shim and the collision guard), reaches goals in
-an empty world from any heading."""
+the shipped deployment runs it (on its scan map, behind the rotation shim and the collision
+guard), reaches goals in an empty world from any heading."""
 
 from __future__ import annotations
 
@@ -14,10 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mentor_core.benchmark.contenders import as_deployed, evolved
+from mentor_core.benchmark.contenders import evolved
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.deployment import load_deployment
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.rotation_shim import RotationShim
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.planner import planner_profile
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario, World
@@ -68,10 +71,12 @@ def test_the_readme_lists_each_shipped_planner_by_its_sha256() -> None:
 @pytest.mark.parametrize("robot_name", ["ugv", "swarm"])
 def test_a_shipped_planner_as_deployed_reaches_goals_in_an_empty_world(robot_name: str) -> None:
     robot = get_profile(robot_name)
-    contender = as_deployed(evolved(PLANNERS / f"{robot_name}-paper-dual-s1.json", robot))
-    assert contender.name.startswith("mapped-guard-shim-")
-    assert contender.profile.rotation_shim == pytest.approx(math.radians(45.0))
-    assert contender.profile.collision_guard and contender.guide is not None
+    path = PLANNERS / f"{robot_name}-paper-dual-s1.json"
+    shipped, _ = load_deployment("shipped", robot_name)
+    contender = evolved(path, robot, deployment=shipped)
+    assert contender.name == str(path)  # the label stays: no prefix for the deployment
+    assert RotationShim(threshold_deg=45.0) in contender.stages
+    assert CollisionGuardStage(memory=3) in contender.stages and contender.guide is not None
     size = robot.test_arena
     world = World(size)
     rng = np.random.default_rng(0)
@@ -82,5 +87,6 @@ def test_a_shipped_planner_as_deployed_reaches_goals_in_an_empty_world(robot_nam
             heading = rng.uniform(-math.pi, math.pi)
             scenarios.append(Scenario(world, (start[0], start[1], heading), tuple(goal)))
     batch = run_episodes(scenarios, contender.profile, contender.policy(scenarios),
-                         time_budgets=50.0, input_goals=contender.input_goals(scenarios))
+                         time_budgets=50.0, input_goals=contender.input_goals(scenarios),
+                         stages=contender.stages)  # fmt: skip
     assert batch.reached.all() and not batch.collided.any()

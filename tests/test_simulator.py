@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from profiles_support import UGV_STRAIGHT
 
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.evolution.genome import minimal_genome
 from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.evolution.network import FeedForwardNetwork
@@ -24,7 +25,6 @@ from mentor_core.runtime.simulator import (
     wire_pose,
     wire_ranges,
 )
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import training_scenarios
 from mentor_core.sim.world import World

@@ -3,12 +3,13 @@ same maps, side by side in one process.
 
     .venv/bin/python benchmarks/perf/clearance_cost_speed.py [--robot swarm] [--pairs-per-family 4]
 
-The maps are those the robot's shipped dual-stage seed-1 planner read, as deployed, on the
-validation split's pairs (each guide's map at the episode's end). On each map, from the
-episode's start to its goal, a planner is built and plans (``GuideConfig.planner`` and
-``GridPlanner.plan``, what ``PathGuide.set_map`` and a new plan cost) with the robot's
-scan-map settings, once with its clearance cost and once as a hard disc, alternating, and
-the median of ``--repeats`` rounds is printed per map set, with the ratio.
+The maps are those the robot's shipped dual-stage seed-1 planner read, as deployed
+(``--deployment shipped``), on the validation split's pairs (each guide's map at the episode's
+end). On each map, from the episode's start to its goal, a planner is built and plans
+(``GuideConfig.planner`` and ``GridPlanner.plan``, what ``PathGuide.set_map`` and a new plan
+cost) with the robot's scan-map settings, once with its clearance cost and once as a hard
+disc, alternating, and the median of ``--repeats`` rounds is printed per map set, with the
+ratio.
 """
 
 from __future__ import annotations
@@ -20,10 +21,11 @@ import statistics
 import time
 from pathlib import Path
 
-from mentor_core.benchmark.contenders import as_deployed, evolved
+from mentor_core.benchmark.contenders import evolved
 from mentor_core.benchmark.suite import build_suite
+from mentor_core.controller.deployment import load_deployment
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 
 PLANNERS = Path(__file__).resolve().parents[2] / "planners"
@@ -37,13 +39,14 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     robot = get_profile(args.robot)
     suite = build_suite(robot, "validation", pairs_per_family=args.pairs_per_family)
-    contender = as_deployed(evolved(PLANNERS / f"{args.robot}-paper-dual-s1.json", robot))
+    shipped, _ = load_deployment("shipped", args.robot)
+    contender = evolved(PLANNERS / f"{args.robot}-paper-dual-s1.json", robot, deployment=shipped)
     scenarios = [pair.scenario for pair in suite.pairs]
     config = contender.guide
     assert config is not None
     goals, guides = scan_guided_goals(scenarios, contender.profile, config)
     run_episodes(scenarios, contender.profile, contender.policy(scenarios),
-                 time_budgets=50.0, input_goals=goals)  # fmt: skip
+                 time_budgets=50.0, input_goals=goals, stages=contender.stages)  # fmt: skip
     grids = [guide.map.grid() for guide in guides]
     costly = scan_guide_config(robot, clearance_cost=1.0)
     hard = dataclasses.replace(costly, least_margin=None, clearance_cost=0.0)

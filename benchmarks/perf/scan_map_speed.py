@@ -1,5 +1,6 @@
-"""How long the planners take on their scan map (``mentor-bench --scan-map``), as one JSON
-object for ``benchmarks/perf/side_by_side.py``.
+"""How long the planners take on their scan map (``mentor-bench --set scan_map={}``: the
+genome on its scan map, VFH+ as ``mapped-vfh``), as one JSON object for
+``benchmarks/perf/side_by_side.py``.
 
     .venv/bin/python benchmarks/perf/scan_map_speed.py [--pairs-per-family 8]
         [--genome ugv=PATH --genome swarm=PATH]
@@ -23,6 +24,7 @@ from generalisation_bench import chosen_genomes
 from mentor_core.benchmark.contenders import evolved, hand_written, on_scan_map
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite, shipped_limits
+from mentor_core.controller.deployment import load_deployment
 from mentor_core.sim.robots import get_profile
 
 
@@ -36,8 +38,11 @@ def main(argv: list[str] | None = None) -> int:
     digest = hashlib.sha256()
     for name, path in genomes.items():
         robot = get_profile(name)
-        contenders = [on_scan_map(evolved(path, robot)),
-                      on_scan_map(hand_written("vfh", shipped_limits(robot)))]  # fmt: skip
+        mapped, _ = load_deployment("none", name, ["scan_map={}"])  # the plan's defaults
+        assert mapped.scan_map is not None
+        vfh = hand_written("vfh", shipped_limits(robot))
+        contenders = [evolved(path, robot, deployment=mapped),
+                      on_scan_map(vfh, mapped.scan_map.guide(vfh.profile))]  # fmt: skip
         for c in contenders:  # warm-up: numba kernels compiled or loaded
             run_contender(build_suite(robot, "validation", pairs_per_family=1), c)
         suite = build_suite(robot, "validation", pairs_per_family=args.pairs_per_family)

@@ -23,8 +23,9 @@ from typing import Any
 
 import numpy as np
 
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.sim.collision import sample_counts
-from mentor_core.sim.episode import EpisodeBatch, run_episodes
+from mentor_core.sim.episode import EpisodeBatch
 from mentor_core.sim.pymunk_world import PymunkWorld
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.scenarios import training_scenarios

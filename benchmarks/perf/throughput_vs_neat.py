@@ -6,8 +6,9 @@
 
 Both sides drive the same paper-scale UGV genomes (minimal genomes put through ``--rounds``
 of the paper's mutation, :func:`generation_bench.evolved_looking`) through the same training
-scenarios with the SAME simulator step: :func:`mentor_core.sim.episode.run_episodes`, i.e. per
-decision the range sensors (numba ray casts), the network inputs
+scenarios with the SAME simulator step:
+:func:`mentor_core.controller.episodes.run_episodes`, i.e. per decision the range sensors
+(numba ray casts), the network inputs
 (:func:`mentor_core.sim.observation.network_inputs`), the network, the actions
 (:func:`~mentor_core.sim.observation.actions_from_outputs`), the swept-arc step of
 :class:`mentor_core.sim.engine.BatchEngine` (numba collision kernels) and the experience-point
@@ -55,10 +56,11 @@ import numpy as np
 from generation_bench import evolved_looking
 
 import mentor_core.evolution.batch_network
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.evolution.batch_network import BatchNetwork
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import NEAT_SIGMOID_SLOPE, FeedForwardNetwork
-from mentor_core.sim.episode import EpisodeBatch, run_episodes
+from mentor_core.sim.episode import EpisodeBatch
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import training_scenarios
 from mentor_core.sim.world import Scenario

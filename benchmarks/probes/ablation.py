@@ -32,6 +32,7 @@ import numpy as np
 import yaml
 
 from mentor_core.cli.train import resolve_config
+from mentor_core.controller.turn_commitment import TurnCommitment
 from mentor_core.files.bags import read_scenario_bag
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import sample_scenarios, training_scenarios
@@ -117,12 +118,16 @@ def main() -> None:
     best = result.best_genome
     _, scenarios, _, _ = read_scenario_bag(ROOT / "bags" / "unseen" / (args.unseen or args.robot))
     own = problem.evaluate([best])  # the training episodes, with their time budgets
-    unseen = assess(best, problem.profile, scenarios)
+    # tested as mentor-eval runs it: the stages its metadata names (its view corridor and
+    # rotation shim; a turn commitment is training's alone)
+    stages = tuple(s for s in problem.stages if s.name != TurnCommitment.name)
+    unseen = assess(best, problem.profile, scenarios, stages=stages)
     heldout = walls = None
     if args.heldout:
         doe = training_scenarios(problem.profile, HELDOUT_SEED, n=args.heldout, worlds=4)
-        heldout = assess(best, problem.profile, doe)
-        walls = assess(best, problem.profile, heldout_walls(problem.profile, args.heldout // 2))
+        heldout = assess(best, problem.profile, doe, stages=stages)
+        walls = assess(best, problem.profile, heldout_walls(problem.profile, args.heldout // 2),
+                       stages=stages)  # fmt: skip
     print(json.dumps({
         "robot": args.robot, "framework": args.framework, "seed": args.seed,
         "set": args.set, "profile": args.profile,

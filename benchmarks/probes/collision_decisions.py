@@ -20,7 +20,7 @@ import numpy as np
 
 from mentor_core.benchmark.contenders import evolved
 from mentor_core.benchmark.suite import PAPER_LIMIT, build_suite
-from mentor_core.sim.episode import run_episodes
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.sim.robots import get_profile
 
 
@@ -39,7 +39,7 @@ def main() -> None:
     planner = evolved(args.genome, robot)
     scenarios = [pair.scenario for pair in suite.pairs]
     batch = run_episodes(scenarios, planner.profile, planner.policy(scenarios),
-                         time_budgets=PAPER_LIMIT)  # fmt: skip
+                         time_budgets=PAPER_LIMIT, stages=planner.stages)  # fmt: skip
     k = planner.profile.n_sensors
     collided = np.flatnonzero(batch.collided)
     print(f"{len(collided)} collisions, {int(batch.reached.sum())} reached of {len(scenarios)}")

@@ -43,9 +43,12 @@ from mentor_core.benchmark.contenders import Contender
 from mentor_core.benchmark.control import Odometry, outputs_for
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.stage import Stage
+from mentor_core.controller.turn_commitment import TurnCommitment
 from mentor_core.navigation.goal_distance import GoalDistance
 from mentor_core.navigation.shortest_path import VisibilityGraph
-from mentor_core.sim.episode import Policy, run_episodes
+from mentor_core.sim.episode import Policy
 from mentor_core.sim.families import FAMILIES
 from mentor_core.sim.kinematics import wrap_angle
 from mentor_core.sim.robots import RobotProfile, get_profile
@@ -182,10 +185,11 @@ class History:
 
 def rollout(
     scenarios: Sequence[Scenario], profile: RobotProfile, expert: Expert,
-    learner: Perceptron | None, steps: int,
+    learner: Perceptron | None, steps: int, stages: Sequence[Stage] = (),
 ) -> tuple[FloatArray, FloatArray, float]:  # fmt: skip
-    """Drive every scenario (the expert when ``learner`` is None); the inputs seen, the
-    expert's outputs there, and the share of goals reached."""
+    """Drive every scenario (the expert when ``learner`` is None) through the training
+    problem's ``stages``; the inputs seen, the expert's outputs there, and the share of goals
+    reached."""
     odometry = Odometry([sc.start for sc in scenarios])
     history = History(len(scenarios), profile.n_inputs, profile.n_outputs, steps)
     seen: list[FloatArray] = []
@@ -201,15 +205,16 @@ def rollout(
         history.update(robots, inputs, out)
         return out
 
-    batch = run_episodes(scenarios, profile, policy, time_budgets=PAPER_LIMIT)
+    batch = run_episodes(scenarios, profile, policy, time_budgets=PAPER_LIMIT, stages=stages)
     return np.concatenate(seen), np.concatenate(labels), float(np.mean(batch.reached))
 
 
 def contender(
-    name: str, profile: RobotProfile, learner: Perceptron | None, margin: float, steps: int = 0
-) -> Contender:
+    name: str, profile: RobotProfile, learner: Perceptron | None, margin: float, steps: int = 0,
+    stages: Sequence[Stage] = (),
+) -> Contender:  # fmt: skip
     """The learner (with ``steps`` of history) or, for None, the expert, as a benchmark
-    planner."""
+    planner deciding through ``stages`` (the training problem's)."""
 
     def policy(scenarios: Sequence[Scenario], prof: RobotProfile) -> Policy:
         if learner is not None:
@@ -231,7 +236,8 @@ def contender(
 
         return drive
 
-    return Contender(name, "baseline" if learner is None else "evolved", profile, policy)
+    return Contender(name, "baseline" if learner is None else "evolved", profile, policy,
+                     stages=tuple(stages))  # fmt: skip
 
 
 def main() -> None:
@@ -258,12 +264,15 @@ def main() -> None:
     config, _ = load_config_file(args.config or CONFIGS / f"train_{args.robot}_paper.yaml")
     scenarios: list[Scenario] = []
     profile = None
+    stages: tuple[Stage, ...] = ()  # the config's: what an evolved network decides through
     for seed in args.seeds:
         problem = make_problem(dataclasses.replace(
             config, scenario_seed=seed, families=tuple(FAMILIES) if args.family_pairs else (),
             family_pairs=args.family_pairs or 1))  # fmt: skip
         scenarios += problem.scenarios
         profile = problem.profile
+        # its view corridor and rotation shim (a turn commitment never ran here)
+        stages = tuple(s for s in problem.stages if s.name != TurnCommitment.name)
     assert profile is not None
     suite = build_suite(get_profile(args.robot), "validation",
                         pairs_per_family=args.pairs_per_family)  # fmt: skip
@@ -272,7 +281,7 @@ def main() -> None:
     learner = Perceptron(width, profile.n_outputs, args.hidden, seed=args.learner_seed)
     rows = []
     began = time.perf_counter()
-    scored = run_contender(suite, contender("expert", profile, None, args.margin))
+    scored = run_contender(suite, contender("expert", profile, None, args.margin, 0, stages))
     rows.append({"round": "expert", "train_success": None,
                  "validation": scored.scores["paper"]})  # fmt: skip
     overall = scored.scores["paper"]["overall"]
@@ -281,13 +290,13 @@ def main() -> None:
     ys: list[FloatArray] = []
     for k in range(args.rounds):
         x, y, reached = rollout(
-            scenarios, profile, expert, None if k == 0 else learner, args.history
+            scenarios, profile, expert, None if k == 0 else learner, args.history, stages
         )
         xs.append(x)
         ys.append(y)
         mse = learner.fit(np.concatenate(xs), np.concatenate(ys), args.epochs)
         scored = run_contender(
-            suite, contender(f"round{k}", profile, learner, args.margin, args.history)
+            suite, contender(f"round{k}", profile, learner, args.margin, args.history, stages)
         )
         overall = scored.scores["paper"]["overall"]
         rows.append({"round": k, "train_success": reached, "samples": int(sum(map(len, xs))),

@@ -6,9 +6,11 @@
 An empty arena, the robot at its centre facing +x, one goal per bearing (``--bearings``
 evenly spaced over the full circle) at ``--distance`` m (default: half the test arena). Each
 genome runs with the planner settings of its metadata (as ``mentor-eval`` runs it), also
-behind a rotation shim (``--rotation-shim``; 0: not), and the two baselines within the
-shipped limits beside them (``--baselines``). Printed per planner: goals reached and SPL,
-overall and per bearing (the shortest path is the straight run into the goal's disc).
+behind a rotation shim (``--rotation-shim``, a deployment of that stage alone:
+``--set stages.rotation_shim.threshold_deg=DEG``; 0: not), as ``shim-<genome>``, and the two
+baselines within the shipped limits beside them (``--baselines``). Printed per planner: goals
+reached and SPL, overall and per bearing (the shortest path is the straight run into the
+goal's disc).
 
 A planner that crosses an empty world with an SPL well under 1 loses that share of every path
 elsewhere too: the shipped UGV planners of 2026-12-02 zig-zag round their goal with an SPL of
@@ -25,15 +27,15 @@ import numpy as np
 from mentor_core.benchmark.contenders import (
     HAND_WRITTEN,
     Contender,
-    behind_rotation_shim,
     evolved,
     hand_written,
 )
 from mentor_core.benchmark.scores import spl
 from mentor_core.benchmark.suite import shipped_limits
 from mentor_core.cli import arguments
+from mentor_core.controller.deployment import Deployment, load_deployment
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.errors import MentorError
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import Scenario, World
 
@@ -61,13 +63,16 @@ def main() -> None:
     parser.add_argument("--limit", type=arguments.duration, default=100.0, help="time limit, s")
     args = parser.parse_args()
     try:
-        shim = arguments.rotation_shim_threshold(args.rotation_shim or None)  # 0: not
-    except MentorError as err:
-        parser.error(str(err))
-    try:
         robot = get_profile(args.robot)
     except MentorError as err:
         parser.exit(1, f"open_field.py: {err}\n")
+    shim: Deployment | None = None
+    if args.rotation_shim:  # 0: not
+        try:
+            shim, _ = load_deployment("none", robot.name,
+                                      [f"stages.rotation_shim.threshold_deg={args.rotation_shim}"])
+        except MentorError as err:
+            parser.error(f"--rotation-shim: {err}")
     distance = robot.test_arena / 2.0 if args.distance is None else args.distance
     if not robot.goal_radius < distance < robot.test_arena:
         parser.error(f"--distance must be in ({robot.goal_radius:g}, {robot.test_arena:g}) m "
@@ -84,10 +89,9 @@ def main() -> None:
     contenders: list[Contender] = []
     try:
         for path in args.genomes:
-            plain = evolved(path, robot)
-            contenders.append(plain)
+            contenders.append(evolved(path, robot))
             if shim is not None:
-                contenders.append(behind_rotation_shim(plain, shim))
+                contenders.append(evolved(path, robot, f"shim-{path}", shim))
     except MentorError as err:
         parser.exit(1, f"open_field.py: {err}\n")
     if baselines:
@@ -101,7 +105,8 @@ def main() -> None:
           f"{args.limit:g} s each")
     for c in contenders:
         batch = run_episodes(scenarios, c.profile, c.policy(scenarios),
-                             time_budgets=args.limit, input_goals=c.input_goals(scenarios))
+                             time_budgets=args.limit, input_goals=c.input_goals(scenarios),
+                             stages=c.stages)  # fmt: skip
         values = spl(batch.reached, shortest, batch.path_length(c.profile))
         per_bearing = " ".join(f"{v:.2f}" for v in values)
         print(f"{c.name}: reached {int(batch.reached.sum())}/{len(scenarios)}, "

@@ -3,15 +3,16 @@
     .venv/bin/python benchmarks/probes/plan_limit.py [GENOME ...] --robot swarm
         [--pairs-per-family 40] [--rotation-shim 45] [--aligned 0.4]
 
-Every planner runs on its own scan map (``mentor-bench --scan-map``: the carrot of a plan on
-what its sensors have read, unknown space free) on the validation split, within 50 s:
+Every planner runs on its own scan map (``mentor-bench --set scan_map={}``: the carrot of a
+plan on what its sensors have read, unknown space free) on the validation split, within 50 s:
 
 * ``pursuit``: the plan followed as exactly as the action limits allow, with no reaction of
   its own (the oracle's rule on the carrot: a turn onto it with the smallest step while it
   lies more than ``--aligned`` rad off the heading, else the arc whose chord points at it);
 * mapped VFH+ and mapped Bug2 within the shipped limits;
-* each genome behind the rotation shim (``--rotation-shim``; 0: without), as recommended for
-  the Swarm-Robot's planners.
+* each genome behind the rotation shim (``--rotation-shim``: a deployment with the scan map
+  and ``stages.rotation_shim.threshold_deg``; 0: without), as recommended for the
+  Swarm-Robot's planners.
 
 Printed per planner: success, collisions and timeouts, per family; then the pairs that every
 planner but the pursuit misses (the pursuit collides with what the map has not seen yet, so
@@ -22,7 +23,6 @@ The test split is never touched.
 from __future__ import annotations
 
 import argparse
-import math
 from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
@@ -33,14 +33,15 @@ from numpy.typing import NDArray
 from mentor_core.benchmark.contenders import (
     Contender,
     PolicyMaker,
-    behind_rotation_shim,
     evolved,
     hand_written,
     on_scan_map,
 )
 from mentor_core.benchmark.control import goal_polar, outputs_for
 from mentor_core.benchmark.suite import build_suite, shipped_limits
-from mentor_core.sim.episode import Policy, run_episodes
+from mentor_core.controller.deployment import load_deployment
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.sim.episode import Policy
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario
 
@@ -80,18 +81,23 @@ def main() -> None:
     suite = build_suite(robot, "validation", None, args.pairs_per_family)
     contenders = [Contender("pursuit", "baseline", limits, pursuit(args.aligned)),
                   hand_written("vfh", limits), hand_written("bug", limits)]  # fmt: skip
-    for g in args.genomes:
-        c = evolved(g, robot, Path(g).parent.name)
-        if args.rotation_shim > 0:
-            c = behind_rotation_shim(c, math.radians(args.rotation_shim))
-        contenders.append(c)
+    settings = ["scan_map={}"]  # the plan's defaults, as for the baselines below
+    if args.rotation_shim > 0:
+        settings.append(f"stages.rotation_shim.threshold_deg={args.rotation_shim}")
+    deployment, _ = load_deployment("none", robot.name, settings)
+    plan = deployment.scan_map
+    assert plan is not None
+    mapped = [on_scan_map(c, plan.guide(c.profile)) for c in contenders]
+    for g in args.genomes:  # named as before: mapped-[shim-]<run>
+        name = ("shim-" if args.rotation_shim > 0 else "") + Path(g).parent.name
+        mapped.append(evolved(g, robot, "mapped-" + name, deployment))
     families = [pair.family for pair in suite.pairs]
     fam = np.asarray(families)
     scenarios = [pair.scenario for pair in suite.pairs]
     missed: dict[str, set[int]] = {}
-    for c in map(on_scan_map, contenders):
+    for c in mapped:
         batch = run_episodes(scenarios, c.profile, c.policy(scenarios), time_budgets=PAPER_LIMIT,
-                             input_goals=c.input_goals(scenarios))  # fmt: skip
+                             input_goals=c.input_goals(scenarios), stages=c.stages)  # fmt: skip
         missed[c.name] = set(np.flatnonzero(~batch.reached).tolist())
         per = " ".join(f"{f[:8]}={100 * batch.reached[fam == f].mean():.0f}"
                        for f in suite.families)  # fmt: skip

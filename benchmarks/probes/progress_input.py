@@ -19,6 +19,7 @@ genome trained here runs as intended only through this script.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -27,9 +28,11 @@ import numpy as np
 from mentor_core.benchmark.contenders import Contender, evolved
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.turn_commitment import TurnCommitment
 from mentor_core.evolution.batch_network import BatchNetwork
 from mentor_core.evolution.genome import Genome
-from mentor_core.sim.episode import EpisodeBatch, FloatArray, IntArray, Policy, run_episodes
+from mentor_core.sim.episode import EpisodeBatch, FloatArray, IntArray, Policy
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario
 from mentor_core.training.config import load_config_file
@@ -69,7 +72,7 @@ class ProgressProblem(NavigationProblem):
 
         budgets = self.time_budget
         return run_episodes(list(self.scenarios) * len(genomes), self.profile, policy,
-                            time_budgets=budgets)  # fmt: skip
+                            time_budgets=budgets, stages=self.stages)  # fmt: skip
 
 
 def with_progress(contender: Contender) -> Contender:
@@ -80,7 +83,7 @@ def with_progress(contender: Contender) -> Contender:
         progress = Progress(profile, len(scenarios))
         return lambda inputs, robots: base(progress(inputs, robots), robots)
 
-    return Contender(contender.name + "+progress", contender.kind, contender.profile, make)
+    return dataclasses.replace(contender, name=contender.name + "+progress", make_policy=make)
 
 
 def main() -> None:
@@ -97,7 +100,10 @@ def main() -> None:
     if args.command == "train":
         config, _ = load_config_file(args.paths[0])
         base = make_problem(config, source=args.paths[0])
-        problem = ProgressProblem(base.profile, base.scenarios, time_budget=base.time_budget)
+        # the config's view corridor and rotation shim; its turn commitment never ran here
+        stages = [s for s in base.stages if s.name != TurnCommitment.name]
+        problem = ProgressProblem(base.profile, base.scenarios, time_budget=base.time_budget,
+                                  stages=stages)  # fmt: skip
         result = train(config, args.out, seed=args.seed, evaluator=InProcessEvaluator(problem))
         print(f"best F {result.best_objectives[0]:.3f}; {result.paths.root}")
         return

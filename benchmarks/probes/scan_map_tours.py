@@ -7,8 +7,10 @@ empty at each goal (the node's ``scan_map_keep``).
 A tour is one world of the validation split: the robot starts at its first pair's start and
 is sent to the goals of the world's pairs one after another, each leg from wherever the last
 one ended, with 50 s a leg (a collision ends the tour; a timeout goes on from where it
-stopped). Each genome drives as the planner node runs it with ``scan_map``, behind the
-rotation shim and a collision guard on no arena (:class:`mentor_core.ScanGuidedPlanner`,
+stopped). Each genome drives as the planner node runs it with a deployment of a scan map (its
+plan's defaults), the rotation shim and a collision guard (``deployment`` a file of
+``scan_map: {}`` and ``stages: {rotation_shim: {threshold_deg: 45}, collision_guard: {}}``),
+on no arena (:class:`mentor_core.ScanGuidedPlanner`,
 through :func:`mentor_core.runtime.simulator.run_reference_episode`, which feeds it what the
 node receives). Between legs the planner is reset as the node resets it for a new goal,
 keeping its map or not. Printed per genome and mode: the legs reached of all the tours' legs,
@@ -29,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from mentor_core.benchmark.suite import BenchPair, build_suite
-from mentor_core.navigation.scan_map import scan_guide_config
+from mentor_core.controller.deployment import Deployment, load_deployment
 from mentor_core.runtime.guided_planner import ScanGuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.simulator import RobotSetup, run_reference_episode
@@ -39,11 +41,14 @@ LEG_LIMIT = 50.0  # s, the paper's limit, for every leg
 
 
 def tour(genome: Path, robot: str, pairs: Sequence[BenchPair], keep: bool,
-         shim: float | None) -> list[dict[str, Any]]:  # fmt: skip
-    """The legs of one tour (module docstring): family, leg, outcome, time (s)."""
-    planner = GenomePlanner.load(genome, robot, shim, collision_guard=True)
+         deployment: Deployment) -> list[dict[str, Any]]:  # fmt: skip
+    """The legs of one tour (module docstring) of the genome run as ``deployment`` (one with a
+    scan map): family, leg, outcome, time (s)."""
+    planner = GenomePlanner.load(genome, robot, deployment)
     world = pairs[0].scenario.world
-    mapped = ScanGuidedPlanner(planner, scan_guide_config(planner.profile), world.size)
+    assert deployment.scan_map is not None
+    guide = deployment.scan_map.guide(planner.profile)
+    mapped = ScanGuidedPlanner(planner, guide, world.size)
     pose = tuple(pairs[0].scenario.start)
     legs = []
     for k, pair in enumerate(pairs):
@@ -88,13 +93,16 @@ def main(argv: Sequence[str] | None = None) -> None:
     for pair in suite.pairs:
         tours.setdefault((pair.family, pair.seed), []).append(pair)
     per_tour = max(len(pairs) for pairs in tours.values())
-    shim = math.radians(args.rotation_shim) if args.rotation_shim > 0 else None
+    settings = ["scan_map={}", "stages.collision_guard.memory=3"]
+    if args.rotation_shim > 0:  # before the guard, as shipped
+        settings.insert(1, f"stages.rotation_shim.threshold_deg={args.rotation_shim}")
+    deployment, _ = load_deployment("none", args.robot, settings)
     out: dict[str, dict[str, list[dict[str, Any]]]] = {}
     for genome in args.genomes:
         for keep in (False, True):
             start = time.perf_counter()
             legs = [leg for pairs in tours.values()
-                    for leg in tour(genome, args.robot, pairs, keep, shim)]  # fmt: skip
+                    for leg in tour(genome, args.robot, pairs, keep, deployment)]  # fmt: skip
             out.setdefault(str(genome), {})["kept" if keep else "empty"] = legs
             print(f"{genome} map {'kept' if keep else 'empty at each goal'}: "
                   f"{summary(legs, len(tours), per_tour)} "

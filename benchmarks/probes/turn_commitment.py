@@ -22,32 +22,40 @@ with a line for Bug alone at the genome's limits: Bug's memory as the planner's 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from collections.abc import Sequence
 
 from mentor_core.benchmark.bug import bug_policy
-from mentor_core.benchmark.contenders import Contender, evolved
+from mentor_core.benchmark.contenders import Contender, PolicyMaker, evolved
 from mentor_core.benchmark.runner import run_contender
 from mentor_core.benchmark.suite import build_suite
-from mentor_core.sim.commitment import TurnCommitment
+from mentor_core.controller.turn_commitment import TurnCommitment
 from mentor_core.sim.episode import FloatArray, IntArray, Policy
 from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.world import Scenario
 
 
+def renamed(contender: Contender, suffix: str, make: PolicyMaker) -> Contender:
+    """``contender`` named ``<name><suffix>`` deciding with the policies of ``make``, its
+    stages (those it was trained with) kept."""
+    return dataclasses.replace(contender, name=contender.name + suffix, make_policy=make)
+
+
 def committed(contender: Contender) -> Contender:
-    """``contender`` with the turn commitment (``mentor_core.sim.commitment``)."""
+    """``contender`` with the turn commitment (``mentor_core.controller.turn_commitment``) on
+    its network's outputs, before its stages."""
 
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
         base = contender.policy(scenarios)
-        rule = TurnCommitment(profile, len(scenarios))
+        rule = TurnCommitment().start(len(scenarios), profile, None)
 
         def policy(inputs: FloatArray, robots: IntArray) -> FloatArray:
-            return rule(base(inputs, robots), inputs, robots)
+            return rule.outputs(robots, base(inputs, robots), inputs)
 
         return policy
 
-    return Contender(contender.name + "+commit", contender.kind, contender.profile, make)
+    return renamed(contender, "+commit", make)
 
 
 def goal_framed(contender: Contender) -> Contender:
@@ -62,7 +70,7 @@ def goal_framed(contender: Contender) -> Contender:
 
         return policy
 
-    return Contender(contender.name + "+goal_frame", contender.kind, contender.profile, make)
+    return renamed(contender, "+goal_frame", make)
 
 
 def with_bug_recovery(contender: Contender) -> Contender:
@@ -71,7 +79,7 @@ def with_bug_recovery(contender: Contender) -> Contender:
     def make(scenarios: Sequence[Scenario], profile: RobotProfile) -> Policy:
         return bug_policy(scenarios, profile, driver=contender.policy(scenarios))
 
-    return Contender(contender.name + "+bug", contender.kind, contender.profile, make)
+    return renamed(contender, "+bug", make)
 
 
 RULES = {"commit": committed, "goal_frame": goal_framed, "bug": with_bug_recovery}
@@ -92,7 +100,8 @@ def main() -> None:
         plain = evolved(path, robot)
         variants = [plain, RULES[args.rule](plain)]
         if args.rule == "bug" and i == 0:
-            variants.append(Contender("bug", "baseline", plain.profile, bug_policy))
+            variants.append(Contender("bug", "baseline", plain.profile, bug_policy,
+                                      stages=plain.stages))  # fmt: skip
         for c in variants:
             scores = run_contender(suite, c).scores["paper"]
             cells = [f"{f} {100 * s['success']:.0f}" for f, s in scores.items() if f != "overall"]

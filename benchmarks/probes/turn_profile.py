@@ -3,18 +3,19 @@
     .venv/bin/python benchmarks/probes/turn_profile.py GENOME [GENOME ...] --robot ugv \
         --family forest_sparse --split validation --pairs 40
 
-Each genome runs as ``mentor-bench --deployed`` runs it (its scan map, the rotation shim, the
-collision guard, its robot's gain on the turn); Bug2 on its scan map behind the guard, at the
-shipped planners' action limits. For each: success within 50 s, the path over the shortest path
-on the pairs every planner reaches (mean and median), and the heading change per decision along
-the successful runs (median, and the share at 40 deg or more, near the +-45 deg limit). A
-planner that swings its full turn at most decisions zig-zags; a proportional one turns a little
-at most. For the evolved planners it also reports how the network's turns split by whether
-anything is read near (within 2 m, or for a robot whose sensors reach less, anything read at
-all): the share of decisions with a reading that near, the share of full turns with and without
-one, and where nothing is that near, the slope of the turn over the bearing of the goal the
-network sees (bearings within 30 deg; 1 turns onto the carrot in one decision, 2 overshoots it
-by as much).
+Each genome runs as ``mentor-bench --deployment shipped`` runs it (its robot's shipped
+deployment: its scan map, the rotation shim, the collision guard, its robot's decision period,
+gain on the turn and view corridor); Bug2 on its scan map behind the guard, as that
+deployment's ``mapped-guard-bug``, at the shipped planners' action limits. For each: success
+within 50 s, the path over the shortest path on the pairs every planner reaches (mean and
+median), and the heading change per decision along the successful runs (median, and the share
+at 40 deg or more, near the +-45 deg limit). A planner that swings its full turn at most
+decisions zig-zags; a proportional one turns a little at most. For the evolved planners it also
+reports how the network's turns split by whether anything is read near (within 2 m, or for a
+robot whose sensors reach less, anything read at all): the share of decisions with a reading
+that near, the share of full turns with and without one, and where nothing is that near, the
+slope of the turn over the bearing of the goal the network sees (bearings within 30 deg; 1
+turns onto the carrot in one decision, 2 overshoots it by as much).
 experiment E061, "Where the UGV's full turns come from" (2026-12-04).
 """
 
@@ -30,7 +31,6 @@ import numpy as np
 from mentor_core import MentorError, get_profile
 from mentor_core.benchmark.contenders import (
     Contender,
-    as_deployed,
     behind_collision_guard,
     evolved,
     hand_written,
@@ -39,6 +39,8 @@ from mentor_core.benchmark.contenders import (
 from mentor_core.benchmark.runner import run_family
 from mentor_core.benchmark.scores import under_limit
 from mentor_core.benchmark.suite import PAPER_LIMIT, build_suite, shipped_limits
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.deployment import load_deployment
 from mentor_core.sim.observation import ranges_from_inputs
 from mentor_core.sim.robots import RobotProfile
 
@@ -107,12 +109,16 @@ def main() -> None:
     try:
         robot = get_profile(args.robot)
         suite = build_suite(robot, args.split, [args.family], args.pairs)
-        bug = on_scan_map(behind_collision_guard(hand_written("bug", shipped_limits(robot))))
+        shipped, _ = load_deployment("shipped", robot.name)
+        [guard] = [s for s in shipped.build() if isinstance(s, CollisionGuardStage)]
+        assert shipped.scan_map is not None
+        guarded = behind_collision_guard(hand_written("bug", shipped_limits(robot)), guard)
+        bug = on_scan_map(guarded, shipped.scan_map.guide(guarded.profile))
         logs: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
         planners: dict[str, Contender] = {"mapped guarded Bug2": bug}
         for path in args.genomes:
             logs[path] = []
-            planners[path] = recorded(as_deployed(evolved(path, robot, path)), logs[path])
+            planners[path] = recorded(evolved(path, robot, path, shipped), logs[path])
     except (MentorError, ValueError) as err:
         p.exit(1, f"turn_profile.py: {err}\n")
     shortest = np.array([pair.shortest for pair in suite.pairs])

@@ -12,7 +12,8 @@ the other half (odd world seeds), which the choice never saw. Selection by a hel
 model selection as the field does it; the test split is never touched.
 
 All genomes of a run drive together in one batch (one network program), each on every pair,
-with the planner settings of the champion's metadata, as ``mentor-bench`` runs them.
+with the planner settings and the stages of the champion's metadata (its view corridor and
+rotation shim), as ``mentor-bench`` runs them.
 """
 
 from __future__ import annotations
@@ -26,10 +27,11 @@ import numpy as np
 
 from mentor_core.benchmark.scores import spl
 from mentor_core.benchmark.suite import build_suite
+from mentor_core.controller.deployment import trained_stages
+from mentor_core.controller.episodes import run_episodes
 from mentor_core.evolution.batch_network import BatchNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.planner import planner_profile
-from mentor_core.sim.episode import run_episodes
 from mentor_core.sim.robots import get_profile
 from mentor_core.training.run_files import load_population
 
@@ -41,6 +43,7 @@ def score_run(run: Path, robot: str, pairs_per_family: int) -> dict[str, object]
     champion, metadata = load_genome_and_metadata(run / "best_genome.json")
     base = get_profile(robot)
     profile = planner_profile(base, metadata, run / "best_genome.json")
+    stages = trained_stages(metadata, run / "best_genome.json")
     genomes = [champion] + [g for g, _ in load_population(run / "population.json")]
     suite = build_suite(base, "validation", pairs_per_family=pairs_per_family)
     scenarios = [p.scenario for p in suite.pairs]
@@ -54,7 +57,7 @@ def score_run(run: Path, robot: str, pairs_per_family: int) -> dict[str, object]
 
     began = time.perf_counter()
     batch = run_episodes(scenarios * n_gen, profile, policy,
-                         time_budgets=np.full(n, PAPER_LIMIT))  # fmt: skip
+                         time_budgets=np.full(n, PAPER_LIMIT), stages=stages)  # fmt: skip
     reached = batch.reached & (batch.time_used <= PAPER_LIMIT)
     shortest = np.tile([p.shortest for p in suite.pairs], n_gen)
     weights = spl(reached, shortest, batch.path_length(profile)).reshape(n_gen, n_pairs)

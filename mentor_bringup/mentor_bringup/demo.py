@@ -11,10 +11,9 @@ is being destroyed at shutdown. By default a UGV
 planning with ``bags/regression/<profile>_reference_genome.json`` (paths relative to the
 working directory: run it from the repository root, or give ``--genome``), for 2 episodes as
 fast as the planners answer; ``--real-time-factor 1`` runs in real time (watch ``/clock``,
-``/mentor/obstacles`` and the robots' topics in Foxglove or rviz). ``--headline`` runs the
-planners as the benchmark's headline planners: on a map of their own scans, behind the rotation
-shim and the collision guard, at their robot's decision period, gain on the turn and view
-corridor (``mentor-bench --deployed``). Discovery stays on this machine
+``/mentor/obstacles`` and the robots' topics in Foxglove or rviz). ``--deployment shipped``
+runs the planners as the shipped planners run (``mentor-bench --deployment shipped``; a file:
+a deployment of one's own). Discovery stays on this machine
 (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, ``ROS_DOMAIN_ID=42``) unless the environment
 says otherwise.
 """
@@ -60,10 +59,9 @@ def _parser() -> argparse.ArgumentParser:
              "different periods run together",
     )
     p.add_argument(
-        "--headline", action="store_true",
-        help="planners on a map of their own scans, behind the rotation shim (45 deg) and the "
-             "collision guard, at their robot's decision period, as the benchmark's headline "
-             "planners",
+        "--deployment", default="none", metavar="NAME|FILE",
+        help="how every planner runs: 'none' (as trained), 'shipped' (as the shipped planners, "
+             "mentor-bench --deployment shipped) or a deployment YAML file",
     )
     return p
 
@@ -135,7 +133,7 @@ def main(argv: list[str] | None = None) -> None:
 
     try:
         planners = robot_planners(
-            opts.robots, parse_genomes(opts.genome), headline=opts.headline,
+            opts.robots, parse_genomes(opts.genome), deployment=opts.deployment,
             continuous=opts.continuous,
         )
         sim = {

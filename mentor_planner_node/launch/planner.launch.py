@@ -1,38 +1,29 @@
 """Launch one MENTOR planner on a real robot (ROS 2 Jazzy with ``launch`` installed).
 
     ros2 launch mentor_planner_node planner.launch.py genome:=best_genome.json scan:=/scan
-    ros2 launch mentor_planner_node planner.launch.py genome:=g.json collision_guard:=true
-    ros2 launch mentor_planner_node planner.launch.py genome:=g.json scan_map:=true \
-        scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]"
     ros2 launch mentor_planner_node planner.launch.py genome:=planners/ugv-paper-dual-s1.json \
-        headline:=true   # the headline planner
+        deployment:=shipped   # as the shipped planners run
     ros2 launch mentor_planner_node planner.launch.py genome:=planners/swarm-paper-dual-s1.json \
-        profile:=swarm headline:=true
+        profile:=swarm deployment:=shipped scan_map_size:=20.0 scan_map_origin:="[-10.0, -10.0]"
+    ros2 launch mentor_planner_node planner.launch.py genome:=g.json deployment:=my.yaml
 
 The planner reads the robot's lidar (``scan``), odometry (``odom``) and goals (``/goal_pose``,
 RViz's "2D Goal Pose"), takes frames from TF (the lidar's mount, ``map -> odom``) and decides
 every control period (``decide_on_timer``), publishing ``cmd_vel`` (again at ``repeat_rate``
-between decisions, for bases that stop on a quiet ``cmd_vel``). With ``scan_map`` it plans
-on a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
-odometry frame (``docs/ros.md``, "Global plans"). ``headline:=true`` runs it as
-``mentor-bench --deployed`` scores the shipped planners: ``scan_map:=true
-rotation_shim_deg:=45.0 collision_guard:=true`` and the robot's decision period, gain on the
-turn and view corridor (twice per trained period: ``control_period:=0.5`` for the
-Swarm-Robot, with ``turn_gain:=0.75 view_margin:=0.1``; for the UGV ``control_period:=0.25``,
-``1`` and ``0`` (none)); any of the six given as well wins.
+between decisions, for bases that stop on a quiet ``cmd_vel``). It runs as ``deployment``
+(``none``: as trained, ``shipped``: as ``mentor-bench --deployment shipped`` scores the shipped
+planners, or a deployment file; ``docs/deployment.md``); a deployment with a scan map plans on
+a map of its own scans, a square of ``scan_map_size`` m from ``scan_map_origin`` in the
+odometry frame (``docs/ros.md``, "Global plans").
 """
 
 from __future__ import annotations
-
-from typing import Any
 
 from launch import LaunchContext, LaunchDescription
 from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 from launch_ros.parameter_descriptions import ParameterValue
-
-from mentor_core import headline_parameters, launch_flag, launch_number
 
 ARGUMENTS = {
     "genome": "best_genome.json",
@@ -41,37 +32,15 @@ ARGUMENTS = {
     "odom": "/odom",
     "cmd_vel": "/cmd_vel",
     "use_sim_time": "false",
-    "headline": "false",
-    # '': the headline value with headline:=true, else the node's default
-    "control_period": "",
-    "rotation_shim_deg": "",
-    "collision_guard": "",
-    "turn_gain": "",
-    "view_margin": "",
-    "scan_map": "",
+    "deployment": "none",
     "scan_map_size": "20.0",
-    "scan_map_resolution": "0.0",
     "scan_map_origin": "[-10.0, -10.0]",
     "scan_map_keep": "true",
     "repeat_rate": "10.0",
 }
 
 
-def _layers(value: dict[str, str]) -> dict[str, Any]:
-    """The deployment layers' parameters: the headline mode's, then those given."""
-    headline = launch_flag("headline", value["headline"])
-    layers = headline_parameters(value["profile"], value["genome"]) if headline else {}
-    for name in ("scan_map", "collision_guard"):
-        if value[name].strip():
-            layers[name] = launch_flag(name, value[name])
-    for name in ("control_period", "rotation_shim_deg", "turn_gain", "view_margin"):
-        if value[name].strip():
-            layers[name] = launch_number(name, value[name])
-    return layers
-
-
 def _nodes(context: LaunchContext) -> list[Node]:
-    value = {name: LaunchConfiguration(name).perform(context) for name in ARGUMENTS}
     config = {name: LaunchConfiguration(name) for name in ARGUMENTS}
     planner = Node(
         package="mentor_planner_node",
@@ -82,9 +51,8 @@ def _nodes(context: LaunchContext) -> list[Node]:
             "genome": config["genome"],
             "profile": config["profile"],
             "use_sim_time": ParameterValue(config["use_sim_time"], value_type=bool),
-            **_layers(value),
+            "deployment": config["deployment"],
             "scan_map_size": ParameterValue(config["scan_map_size"], value_type=float),
-            "scan_map_resolution": ParameterValue(config["scan_map_resolution"], value_type=float),
             # no value_type: the string is read as YAML, a list of floats
             "scan_map_origin": ParameterValue(config["scan_map_origin"]),
             "scan_map_keep": ParameterValue(config["scan_map_keep"], value_type=bool),

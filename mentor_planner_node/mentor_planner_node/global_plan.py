@@ -1,4 +1,4 @@
-"""The planner node's global plan (``global_plan:=true`` or ``scan_map:=true``): Nav2's
+"""The planner node's global plan (``global_plan:=true``, or a deployment with a scan map): Nav2's
 planner / controller split, with the evolved network as the controller.
 
 The node follows a ``nav_msgs/Path`` it is given on ``plan`` (until its goal changes) or plans
@@ -12,8 +12,9 @@ decides there: the odometry's pose and the goal are taken into ``map`` through `
 (TF, or the ``map_to_odom`` parameter), and a localiser's correction of ``map -> odom`` moves
 the robot on the map, not the map under the robot.
 
-With ``scan_map`` it plans instead on a map of what its own scans read, unknown space free
-(:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --scan-map`` runs the planners): a
+With a deployment whose ``scan_map`` is set (``deployment:=shipped``) it plans instead on a
+map of what its own scans read, unknown space free, with the deployment's plan settings
+(:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --deployment`` runs the planners): a
 square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
 odometry frame), or with a size of 0 the square about the simulator's arena
 (``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each
@@ -45,13 +46,13 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from mentor_core import (
     Bounds,
     GenomePlanner,
+    GuideConfig,
     GuidedPlanner,
     MentorError,
     PlannerFrames,
     ScanGuidedPlanner,
     bounds_in,
     guide_config,
-    scan_guide_config,
 )
 from mentor_planner_node import conversions
 from mentor_ros_common.messages import occupancy_grid_msg
@@ -94,13 +95,14 @@ class GlobalPlan:
         frames: PlannerFrames,
         values: dict[str, Any],
         on_ready: Callable[[], None],
+        scan_guide: GuideConfig | None = None,
     ) -> None:
         self._node = node
         self._frames = frames
         self._on_ready = on_ready
         self._log = node.get_logger()
         self._genome = planner
-        self.scan_map = bool(values["scan_map"])
+        self.scan_map = scan_guide is not None
         self._arena: Bounds | None = None  # the simulator's, for a scan map of size 0
         #: the planner deciding (None: a scan map waiting for the arena)
         self.planner: GuidedPlanner | ScanGuidedPlanner | None = None
@@ -110,10 +112,8 @@ class GlobalPlan:
             self._keep_map = bool(values["scan_map_keep"])
             self._map_pub = node.create_publisher(OccupancyGridMsg, "scan_map", QOS_MAP)
             self._map_sent: int | None = None  # node clock (ns) of the last publication
-            cost = float(values["scan_map_clearance_cost"])
-            self._config = scan_guide_config(planner.profile, float(values["lookahead"]) or None,
-                                             float(values["scan_map_resolution"]) or None,
-                                             clearance_cost=None if cost < 0.0 else cost)
+            assert scan_guide is not None
+            self._config = scan_guide
             size = float(values["scan_map_size"])
             origin = [float(v) for v in values["scan_map_origin"]]
             if len(origin) != 2 or not all(math.isfinite(v) for v in origin):
@@ -148,7 +148,7 @@ class GlobalPlan:
 
     def waiting_for(self) -> str:
         """What the node waits for before it decides (one line)."""
-        return "no arena for the scan map yet (scan_map)" if self.scan_map else (
+        return "no arena for the scan map yet (the deployment's scan_map)" if self.scan_map else (
             "no map or path to follow yet (global_plan)")
 
     def on_arena(self, arena: Bounds | None) -> None:
@@ -247,11 +247,12 @@ class GlobalPlan:
 
 def attach(
     node: Node, planner: GenomePlanner | None, frames: PlannerFrames,
-    on_ready: Callable[[], None],
+    on_ready: Callable[[], None], scan_guide: GuideConfig | None = None,
 ) -> GlobalPlan | None:  # fmt: skip
     """Declare the global-plan parameters (defaults from the robot, ``docs/ros.md``); a
-    :class:`GlobalPlan` when ``global_plan`` is true and a genome is loaded, else None.
-    ``on_ready`` is called when a map or a path comes (a waiting observation may go)."""
+    :class:`GlobalPlan` when ``global_plan`` is true or the deployment has a scan map
+    (``scan_guide``, its plan's settings) and a genome is loaded, else None. ``on_ready`` is
+    called when a map or a path comes (a waiting observation may go)."""
     profile = planner.profile if planner is not None else None
     defaults = guide_config(profile) if profile is not None else None
     declared = node.declare_parameters(
@@ -262,8 +263,8 @@ def attach(
             (
                 "lookahead",
                 0.0,
-                _descriptor("m along the path the network steers to (0: 2 goal radii along "
-                            "a given path or map, 1.5 on a scan map)", low=0.0),
+                _descriptor("m along the path the network steers to (0: 2 goal radii); a "
+                            "scan map's is the deployment's", low=0.0),
             ),
             (
                 "replan_distance",
@@ -277,31 +278,10 @@ def attach(
             ),
             ("allow_unknown", True, _descriptor("plan through unknown map cells")),
             (
-                "scan_map",
-                False,
-                _descriptor("plan on a map of what the robot's own scans read (unknown space "
-                            "free), as mentor-bench --scan-map"),
-            ),
-            (
                 "scan_map_size",
                 0.0,
                 _descriptor("m, side of the scan map's square (0: the simulator's arena)",
                             low=0.0),
-            ),
-            (
-                "scan_map_resolution",
-                0.0,
-                _descriptor("m, the scan map's cell (0: the profile's, a quarter of the "
-                            "footprint radius, at least 2.5 cm); coarser cells plan faster",
-                            low=0.0),
-            ),
-            (
-                "scan_map_clearance_cost",
-                -1.0,
-                _descriptor("weight of the scan map plan's cost for keeping less than its "
-                            "margin (a footprint radius) clear, down to half of it; 0: the "
-                            "margin is a hard disc (-1: the robot's, 1 for the Swarm-Robot, "
-                            "0 for the UGV)", low=-1.0),
             ),
             (
                 "scan_map_origin",
@@ -317,8 +297,9 @@ def attach(
         ],
     )
     values = {p.name: p.value for p in declared}
-    if values["global_plan"] and values["scan_map"]:
-        raise PlanSetupError("global_plan and scan_map: choose one plan to follow")
-    if not (values["global_plan"] or values["scan_map"]) or planner is None:
+    if values["global_plan"] and scan_guide is not None:
+        raise PlanSetupError("global_plan and a deployment with a scan map: choose one plan "
+                             "to follow (--set scan_map=null in deployment_set drops it)")
+    if not (values["global_plan"] or scan_guide is not None) or planner is None:
         return None
-    return GlobalPlan(node, planner, frames, values, on_ready)
+    return GlobalPlan(node, planner, frames, values, on_ready, scan_guide)

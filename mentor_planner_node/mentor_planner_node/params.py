@@ -12,15 +12,19 @@ from typing import Any
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 from mentor_core import (
     MAP_FRAME,
+    Deployed,
+    Deployment,
     LidarMount,
     MentorError,
     RobotProfile,
     Transform2D,
-    genome_control_period,
+    deployed_genome,
     get_profile,
+    load_deployment,
 )
 
 #: periods without an answer before the watchdog fires, when ``stale_timeout`` is 0
@@ -40,6 +44,9 @@ class PlannerParameters:
 
     genome: str
     profile: RobotProfile
+    deployment: Deployment
+    #: the genome as deployed (None without a genome)
+    deployed: Deployed | None
     control_period: float
     stale_timeout: float
     sync_tolerance: float
@@ -52,10 +59,6 @@ class PlannerParameters:
     map_frame: str
     goal_pose_topic: str
     use_tf: bool
-    rotation_shim_deg: float = 0.0
-    collision_guard: bool = False
-    turn_gain: float = 1.0
-    view_margin: float = 0.0
     repeat_rate: float = REPEAT_RATE
 
 
@@ -70,8 +73,12 @@ def _declarations() -> list[tuple[str, Any, Any]]:
     return [
         ("genome", "", _descriptor("genome JSON file ('' : answer zero Twists)")),
         ("profile", "ugv", _descriptor("robot profile (robots.yaml)")),
-        ("control_period", 0.0,
-         _descriptor("s per decision (0: the genome's, else the profile's)", low=0.0)),
+        ("deployment", "none",
+         _descriptor("how the genome runs: 'none' (as trained), 'shipped' (the shipped "
+                     "planners' deployment of the profile) or a deployment YAML file")),
+        ("deployment_set", Parameter.Type.STRING_ARRAY,
+         _descriptor("KEY=VALUE changes of the deployment, as mentor-bench --set "
+                     "(['stages.turn_gain.gain=1'])")),
         (
             "stale_timeout",
             0.0,
@@ -126,33 +133,6 @@ def _declarations() -> list[tuple[str, Any, Any]]:
         ("map_frame", MAP_FRAME, _descriptor("the map's frame (goals without a frame)")),
         ("goal_pose_topic", "/goal_pose", _descriptor("goals of RViz/Foxglove ('' : none)")),
         ("use_tf", True, _descriptor("take frames from /tf where tf2_ros is installed")),
-        (
-            "rotation_shim_deg",
-            0.0,
-            _descriptor("deg: turn on the spot onto a new goal until it lies within this "
-                        "angle, then let the network drive (0: as the genome's metadata)",
-                        low=0.0),
-        ),
-        (
-            "collision_guard",
-            False,
-            _descriptor("no arc into what the scans of the last three decisions hit; a step "
-                        "back when every arc ahead would hit (linear.x < 0)"),
-        ),
-        (
-            "turn_gain",
-            1.0,
-            _descriptor("in (0, 1]: scale the network's turn by this gain (0.75 for the "
-                        "shipped Swarm-Robot planners; 1: as trained)", low=0.0),
-        ),
-        (
-            "view_margin",
-            0.0,
-            _descriptor("m: show the network only what lies within this distance of its way "
-                        "to its goal, the carrot on a plan (0.1 for the shipped Swarm-Robot "
-                        "planners; 0: the genome's, everything for one trained without)",
-                        low=0.0),
-        ),
     ]
 
 
@@ -163,28 +143,23 @@ def _transform(values: Mapping[str, Any], key: str) -> Transform2D:
         raise PlannerSetupError(f"{key}: {err}") from None
 
 
-def check_parameters(
-    values: Mapping[str, Any], trained_period: float | None = None
-) -> PlannerParameters:
-    """The parameters ``values`` (name -> value, all) checked; ``trained_period`` (s): the
-    genome's control period, the default of ``control_period`` (else the profile's).
-    PlannerSetupError (a ConfigError for an unknown profile)."""
+def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
+    """The parameters ``values`` (name -> value, all) checked, the genome loaded as its
+    deployment runs it (which sets the control period: the profile's without a genome).
+    PlannerSetupError, a ConfigError for an unknown profile or a bad deployment, a
+    FileFormatError for a bad genome."""
     profile = get_profile(str(values["profile"]))
-    period = float(values["control_period"]) or trained_period or profile.control_period
+    settings = [str(v) for v in values.get("deployment_set") or []]
+    deployment = load_deployment(str(values["deployment"]), profile.name, settings,
+                                 "deployment_set")[0]
+    genome = str(values["genome"])
+    deployed = deployed_genome(genome, profile.name, deployment)[1] if genome else None
+    period = profile.control_period if deployed is None else deployed.profile.control_period
     stale = float(values["stale_timeout"]) or STALE_PERIODS * period
     if stale <= period:
         raise PlannerSetupError(
             f"stale_timeout: {stale} s must exceed the control period {period} s"
         )
-    shim = float(values["rotation_shim_deg"])
-    if not 0.0 <= shim <= 180.0:
-        raise PlannerSetupError(f"rotation_shim_deg: {shim} is not in [0, 180] deg")
-    gain = float(values["turn_gain"])
-    if not 0.0 < gain <= 1.0:
-        raise PlannerSetupError(f"turn_gain: {gain} is not in (0, 1]")
-    margin = float(values["view_margin"])
-    if not (margin >= 0.0 and margin < float("inf")):
-        raise PlannerSetupError(f"view_margin: {margin} is not a distance >= 0 m")
     repeat = float(values["repeat_rate"])
     if not (repeat >= 0.0 and repeat < float("inf")):
         raise PlannerSetupError(f"repeat_rate: {repeat} is not a rate >= 0 Hz")
@@ -192,8 +167,10 @@ def check_parameters(
     if kind not in SCAN_KINDS:
         raise PlannerSetupError(f"scan_kind: {kind!r} is not one of {', '.join(SCAN_KINDS)}")
     return PlannerParameters(
-        genome=str(values["genome"]),
+        genome=genome,
         profile=profile,
+        deployment=deployment,
+        deployed=deployed,
         control_period=period,
         stale_timeout=stale,
         sync_tolerance=float(values["sync_tolerance"]),
@@ -206,10 +183,6 @@ def check_parameters(
         map_frame=str(values["map_frame"]) or MAP_FRAME,
         goal_pose_topic=str(values["goal_pose_topic"]),
         use_tf=bool(values["use_tf"]),
-        rotation_shim_deg=shim,
-        collision_guard=bool(values["collision_guard"]),
-        turn_gain=gain,
-        view_margin=margin,
         repeat_rate=repeat,
     )
 
@@ -217,11 +190,7 @@ def check_parameters(
 def declare_parameters(node: Node) -> PlannerParameters:
     """Declare the node's parameters and check them."""
     declared = node.declare_parameters("", _declarations())
-    values = {p.name: p.value for p in declared}
-    genome = str(values["genome"])
-    # a genome trained to decide more often than its robot sets the default period
-    trained = genome_control_period(genome, str(values["profile"])) if genome else None
-    return check_parameters(values, trained)
+    return check_parameters({p.name: p.value for p in declared})
 
 
 def check_goal_radius(value: Any, profile: RobotProfile) -> tuple[float, str]:

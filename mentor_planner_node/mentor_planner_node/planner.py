@@ -19,18 +19,16 @@ a planner with a memory is reset at the first observation of each new goal or ep
 A watchdog on the steady clock sends a zero Twist with a throttled warning when no observation
 could be answered for ``stale_timeout`` wall s, also when sim time stops. A corrupt genome or
 an unknown profile is one line on stderr and exit status 2.
-With ``global_plan`` the network steers along a path given on ``plan`` or planned on the
-map, with ``scan_map`` along a plan on a map of its own scans, which it publishes on
-``scan_map`` (:mod:`.global_plan`); with ``collision_guard`` its decisions pass a collision guard
-(:mod:`mentor_core.sim.collision_guard`) that may answer with a step back (``linear.x < 0``);
-``turn_gain`` scales the network's turn (:mod:`mentor_core.sim.turn_gain`); ``view_margin``
-shows the network only what lies near its way to the goal
-(:mod:`mentor_core.sim.view_corridor`).
+The genome runs as its ``deployment`` (``none``: as trained, ``shipped``: as the shipped
+planners, or a file; ``deployment_set`` changes keys of it), through the same decision chain as
+``mentor-bench --deployment`` (:mod:`mentor_core.controller`): a collision guard may answer
+with a step back (``linear.x < 0``). With ``global_plan`` the network steers along a path
+given on ``plan`` or planned on the map, with a deployment's ``scan_map`` along a plan on a
+map of its own scans, which it publishes on ``scan_map`` (:mod:`.global_plan`).
 """
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from geometry_msgs.msg import PoseStamped, Twist
@@ -117,19 +115,16 @@ class PlannerNode(Node):
         self.profile = p.profile
         self.control_period = p.control_period
         self.goal_radius = p.goal_radius
-        shim = math.radians(p.rotation_shim_deg) if p.rotation_shim_deg > 0.0 else None
-        margin = p.view_margin if p.view_margin > 0.0 else None
         self.planner = (
-            GenomePlanner.load(p.genome, self.profile.name, shim, p.collision_guard,
-                               p.turn_gain, margin, p.control_period)
-            if p.genome
-            else None
-        )  # fmt: skip
+            GenomePlanner.load(p.genome, self.profile.name, p.deployment) if p.genome else None
+        )
         self.gate = DecisionGate(p.stale_timeout, p.sync_tolerance)
         self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
         self.arena: Bounds | None = None
         #: the global plan (parameter global_plan), None without
-        self.global_plan = global_plan.attach(self, self.planner, self.frames, self._answer)
+        guide = None if p.deployed is None else p.deployed.guide
+        self.global_plan = global_plan.attach(self, self.planner, self.frames, self._answer,
+                                              guide)  # fmt: skip
         self.decisions = 0
         self.zero_commands = 0
         #: cmd_vel sent again between decisions (``repeat_rate``)

@@ -4,14 +4,14 @@
     ros2 launch mentor_sim_node mentor.launch.py robots:=ugv_0,ugv_1 lidar_rays:=360 rviz:=true
     ros2 launch mentor_sim_node mentor.launch.py profiles:=ugv,swarm continuous:=true \
         genomes:=ugv=planners/ugv-paper-dual-s1.json,swarm=planners/swarm-paper-dual-s1.json \
-        headline:=true
+        deployment:=shipped
 
 Arguments: ``robots`` (comma-separated namespaces), ``profile`` (of every robot), ``genome``
 (of every robot); or ``profiles`` (comma-separated, one robot each, named ``<profile>_<i>``)
 with ``genomes`` (comma-separated ``PROFILE=FILE``; a profile not named plans with its
-regression reference genome); ``headline`` (the planners as ``mentor-bench --deployed`` runs
-them: on their scan map, behind the rotation shim and the collision guard, with their robot's
-gain on the turn), ``world`` (a world file; '' : the training world), ``lidar_rays`` (> 0: the
+regression reference genome); ``deployment`` (how every planner runs: ``none``, ``shipped`` as
+``mentor-bench --deployment shipped`` runs the shipped planners, or a deployment file),
+``world`` (a world file; '' : the training world), ``lidar_rays`` (> 0: the
 planners read the simulated lidar instead of the per-sensor scan), ``continuous`` (the
 simulator runs like Gazebo, the planners decide on their own timers), ``real_time_factor``,
 ``wait_for_goals`` (robots wait for goals from RViz's "2D Goal Pose" tool), ``rviz`` (start
@@ -45,7 +45,7 @@ ARGUMENTS = {
     "genome": "bags/regression/ugv_reference_genome.json",
     "profiles": "",
     "genomes": "",
-    "headline": "false",
+    "deployment": "none",
     "world": "",
     "lidar_rays": "0",
     "continuous": "false",
@@ -61,14 +61,14 @@ def _items(text: str) -> list[str]:
 
 def _planners(value: dict[str, str], continuous: bool) -> list[RobotPlanner]:
     """The robots and their planners: of ``profiles``, else ``robots`` all of ``profile``."""
-    headline = launch_flag("headline", value["headline"])
+    deployment = value["deployment"] or "none"
     if value["profiles"]:
         return robot_planners(_items(value["profiles"]), parse_genomes(_items(value["genomes"])),
-                              headline=headline, continuous=continuous)
+                              deployment=deployment, continuous=continuous)
     names = _items(value["robots"])
     genome = {value["profile"]: value["genome"]} if value["genome"] else {}
     return robot_planners([value["profile"]] * len(names), genome, names=names,
-                          headline=headline, continuous=continuous)
+                          deployment=deployment, continuous=continuous)
 
 
 def _nodes(context: LaunchContext) -> list[Node]:

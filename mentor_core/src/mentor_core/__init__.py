@@ -10,6 +10,8 @@ and the robot stack's parts; ``docs/architecture.md`` gives the rules, lowest la
 * ``objectives`` -- the paper's criteria F, G and complexity | ``files`` -- genome files,
   checkpoints, rosbag2 bags | ``navigation`` -- occupancy grids and ROS maps, global plans
   for a robot's footprint, following a path;
+* ``controller`` -- the decision chain and its stages (view corridor, gain on the turn,
+  rotation shim, collision guard, ...), deployments as data, the batched episodes;
 * ``training`` -- problem, trainers, evaluation backends, assessment | ``runtime`` -- what the
   ROS nodes run: reference simulator, scenario plans, the planner, recording;
 * ``report`` -- figures, tables and the Markdown report;
@@ -68,6 +70,14 @@ def __dir__() -> list[str]:
 # Type checkers read these imports; at run time each is loaded on first use (``__getattr__``).
 if TYPE_CHECKING:
     # foundation
+    # controller
+    from mentor_core.controller.deployment import Deployed as Deployed
+    from mentor_core.controller.deployment import Deployment as Deployment
+    from mentor_core.controller.deployment import load_deployment as load_deployment
+    from mentor_core.controller.episodes import run_episodes as run_episodes
+    from mentor_core.controller.pipeline import DecisionChain as DecisionChain
+    from mentor_core.controller.stage import Stage as Stage
+    from mentor_core.controller.stage import StageRun as StageRun
     from mentor_core.errors import (
         ConfigError as ConfigError,
     )
@@ -203,13 +213,7 @@ if TYPE_CHECKING:
         GenomePlanner as GenomePlanner,
     )
     from mentor_core.runtime.planner import (
-        deployed_control_period as deployed_control_period,
-    )
-    from mentor_core.runtime.planner import (
-        deployed_turn_gain as deployed_turn_gain,
-    )
-    from mentor_core.runtime.planner import (
-        deployed_view_margin as deployed_view_margin,
+        deployed_genome as deployed_genome,
     )
     from mentor_core.runtime.planner import (
         genome_control_period as genome_control_period,
@@ -220,10 +224,10 @@ if TYPE_CHECKING:
         RobotPlanner as RobotPlanner,
     )
     from mentor_core.runtime.robot_graph import (
-        headline_parameters as headline_parameters,
+        parse_genomes as parse_genomes,
     )
     from mentor_core.runtime.robot_graph import (
-        parse_genomes as parse_genomes,
+        planner_period as planner_period,
     )
     from mentor_core.runtime.robot_graph import (
         robot_planners as robot_planners,
@@ -367,3 +371,4 @@ if TYPE_CHECKING:
     )
     from mentor_core.training.problem import NavigationProblem as NavigationProblem
     from mentor_core.training.trainer import train as train
+    from mentor_core.validation import config_dataclass as config_dataclass

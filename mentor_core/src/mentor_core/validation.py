@@ -8,7 +8,8 @@ file and the key path (``config.yaml: evolution.mutation.weight_rate: must be <=
 Types are strict: a whole-number field takes no float, no text and no boolean (``12.5``,
 ``"12"``, ``true``); a number field takes an integer but no boolean, text, NaN or infinity.
 
-:func:`read_yaml`, :func:`read_yaml_extending`, :func:`yaml_value` and :func:`merge_mappings`
+:func:`read_yaml`, :func:`read_yaml_extending`, :func:`yaml_value`, :func:`with_settings` and
+:func:`merge_mappings`
 are :mod:`mentor_core.yaml_reading`'s, named here too since every config is read with them.
 
 Foundation level: imports only ``mentor_core.errors`` and ``mentor_core.yaml_reading`` (and
@@ -33,6 +34,7 @@ from mentor_core.yaml_reading import (
     merge_mappings,
     read_yaml,
     read_yaml_extending,
+    with_settings,
     yaml_value,
 )
 
@@ -227,5 +229,6 @@ __all__ = [
     "read_yaml_extending",
     "to_plain",
     "validate",
+    "with_settings",
     "yaml_value",
 ]

@@ -11,8 +11,9 @@ Foundation level: imports only ``mentor_core.errors`` (and yaml).
 
 from __future__ import annotations
 
+import copy
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -222,6 +223,38 @@ def merge_mappings(base: dict[str, Any], extra: dict[str, Any]) -> None:
             base[key] = value
 
 
+def with_settings(
+    data: dict[str, Any], settings: Sequence[str], source: str = "--set",
+    own_options: Mapping[str, str] | None = None,
+) -> dict[str, Any]:
+    """A copy of ``data`` (a config's mapping) with each ``KEY=VALUE`` of ``settings`` set in
+    turn: ``KEY`` a dotted key path (``n_scenarios``, ``evolution.mutation.recurrent_rate``),
+    ``VALUE`` read as YAML 1.2 (``40``, ``0.05``, ``[1, 2]``, ``null``); mappings on the way
+    are created where missing (an unknown key is then the validation's fault). ConfigError
+    naming ``source`` for a setting without ``=`` or a key, a value that is not YAML, or a
+    key that ``own_options`` (key -> option) says a command line sets otherwise."""
+    out = copy.deepcopy(data)
+    for item in settings:
+        key, eq, text = item.partition("=")
+        path = key.strip().split(".")
+        if not eq or not all(path):
+            raise ConfigError(f"expected KEY=VALUE (a dotted key path), got {item!r}", None,
+                              source)  # fmt: skip
+        if own_options and path[0] in own_options:
+            raise ConfigError(f"set with {own_options[path[0]]}, not {source}", key, source)
+        try:
+            value = yaml_value(text)
+        except ValueError as err:
+            raise ConfigError(f"{text!r} is not a YAML value ({err})", key, source) from None
+        node = out
+        for name in path[:-1]:
+            if not isinstance(node.get(name), dict):
+                node[name] = {}
+            node = node[name]
+        node[path[-1]] = value
+    return out
+
+
 def yaml_value(text: str) -> Any:
     """``text`` read as one YAML 1.2 value (``0.05``, ``[1, 2]``, ``null``, ``rooms``), within
     the bounds of :func:`read_yaml`; ValueError when it is not YAML or over a bound."""
@@ -291,5 +324,6 @@ __all__ = [
     "merge_mappings",
     "read_yaml",
     "read_yaml_extending",
+    "with_settings",
     "yaml_value",
 ]

@@ -6,5 +6,5 @@ pairs checked solvable, the validation and test splits, classic baselines and th
 shortest-path oracle, and the scores (success, collisions, timeouts, time to goal, SPL).
 
 May import every wing below it (errors, atomic, evolution, sim, objectives, files,
-navigation, training, runtime); never report or cli.
+navigation, controller, training, runtime); never report or cli.
 """

@@ -29,6 +29,7 @@ from typing import Any
 from mentor_core.benchmark.runner import LIMITS, ContenderResult
 from mentor_core.benchmark.scores import SCORE_KEYS
 from mentor_core.benchmark.suite import PAPER_LIMIT, Suite
+from mentor_core.controller.stage import Stage
 from mentor_core.errors import FileFormatError, is_version
 from mentor_core.sim.robots import RobotProfile
 
@@ -41,8 +42,12 @@ _CONTENDER_KEYS = ("name", "kind", "scores", "results")
 _RESULT_KEYS = ("reached", "collided", "time", "trajectory")
 
 
-def settings(profile: RobotProfile) -> dict[str, Any]:
-    """A planner's action limits and input encoding, as plain values (rad, m, s)."""
+def settings(profile: RobotProfile, stages: Sequence[Stage] = ()) -> dict[str, Any]:
+    """A planner's action limits and input encoding, as plain values (rad, m, s), and the
+    settings of its stages (:meth:`~mentor_core.controller.stage.Stage.record`)."""
+    recorded: dict[str, Any] = {}
+    for stage in stages:
+        recorded.update(stage.record())
     return {
         "input_encoding": profile.input_encoding,
         "heading_change_max": profile.heading_change_max,
@@ -51,13 +56,10 @@ def settings(profile: RobotProfile) -> dict[str, Any]:
         "clearance_margin": profile.clearance_margin,
         "feedback_action": profile.feedback_action,
         "memory_units": profile.memory_units,
-        **({} if profile.rotation_shim is None else {"rotation_shim": profile.rotation_shim}),
-        **({"collision_guard": True} if profile.collision_guard else {}),
-        **({} if profile.turn_gain == 1.0 else {"turn_gain": profile.turn_gain}),
         **({} if profile.proximity_scale is None
            else {"proximity_scale": profile.proximity_scale}),
-        **({} if profile.view_margin is None else {"view_margin": profile.view_margin}),
         "control_period": profile.control_period,
+        **recorded,
     }
 
 
@@ -104,7 +106,7 @@ def _contender(result: ContenderResult) -> dict[str, Any]:
         "name": c.name,
         "kind": c.kind,
         "source": c.source,
-        "settings": settings(c.profile),
+        "settings": settings(c.profile, c.stages),
         # the scan map's guide (m), for planners on one
         **({} if c.guide is None else {"scan_map": {
             "lookahead": c.guide.lookahead, "replan_distance": c.guide.replan_distance,

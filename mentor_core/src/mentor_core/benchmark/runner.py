@@ -4,8 +4,8 @@
     result = run_contender(suite, evolved("runs/x/best_genome.json", get_profile("ugv")))
     result.scores["paper"]["overall"]["success"]
 
-Each family's pairs run as one :func:`mentor_core.sim.episode.run_episodes` call (the robots
-of one world step together), once, with the longer of the two time limits per pair; the
+Each family's pairs run as one :func:`mentor_core.controller.episodes.run_episodes` call (the
+robots of one world step together), once, with the longer of the two time limits per pair; the
 scores under each limit follow (``mentor_core.benchmark.scores``).
 """
 
@@ -20,7 +20,7 @@ import numpy as np
 from mentor_core.benchmark.contenders import Contender
 from mentor_core.benchmark.scores import Outcomes, outcomes, score_table, under_limit
 from mentor_core.benchmark.suite import PAPER_LIMIT, Suite
-from mentor_core.sim.episode import run_episodes
+from mentor_core.controller.episodes import run_episodes
 
 #: the time limits scored: the paper's 50 s, and the limit scaled to the shortest path
 LIMITS = ("paper", "scaled")
@@ -46,8 +46,8 @@ def limits_of(suite: Suite) -> dict[str, np.ndarray]:
 
 def run_family(suite: Suite, contender: Contender, family: str) -> Outcomes:
     """``contender`` on the pairs of ``family`` in ``suite`` (suite order), in one
-    :func:`~mentor_core.sim.episode.run_episodes` call with a fresh policy, so the outcomes do
-    not depend on what ran before or beside it."""
+    :func:`~mentor_core.controller.episodes.run_episodes` call with a fresh policy, so the
+    outcomes do not depend on what ran before or beside it."""
     limits = limits_of(suite)
     budgets = np.maximum(limits["paper"], limits["scaled"])
     idx = [i for i, p in enumerate(suite.pairs) if p.family == family]
@@ -55,8 +55,8 @@ def run_family(suite: Suite, contender: Contender, family: str) -> Outcomes:
         raise ValueError(f"the suite has no pairs of family {family!r}")
     scenarios = [suite.pairs[i].scenario for i in idx]
     batch = run_episodes(scenarios, contender.profile, contender.policy(scenarios),
-                         time_budgets=budgets[idx],
-                         input_goals=contender.input_goals(scenarios))  # fmt: skip
+                         time_budgets=budgets[idx], input_goals=contender.input_goals(scenarios),
+                         stages=contender.stages)  # fmt: skip
     return outcomes(batch, contender.profile)
 
 

@@ -12,9 +12,7 @@ import math
 import sys
 from typing import NoReturn
 
-from mentor_core.errors import MentorError
-from mentor_core.navigation.scan_map import scan_guide_config
-from mentor_core.sim.robots import RobotProfile
+from mentor_core.controller.deployment import Deployment, load_deployment
 
 
 class Parser(argparse.ArgumentParser):
@@ -52,93 +50,39 @@ def duration(text: str) -> float:
     return value
 
 
-def rotation_shim_threshold(degrees: float | None) -> float | None:
-    """``--rotation-shim DEG`` as the profile's threshold (rad; None when not given);
-    MentorError unless DEG lies in (0, 180]."""
-    if degrees is None:
-        return None
-    if not 0.0 < degrees <= 180.0:
-        raise MentorError(f"--rotation-shim must be in (0, 180] deg, got {degrees}")
-    return math.radians(degrees)
+def add_deployment_arguments(
+    parser: argparse.ArgumentParser, what: str, repeatable: bool = False
+) -> None:
+    """``--deployment NAME|FILE`` (``repeatable``: one run per deployment given) and ``--set
+    KEY=VALUE``: how ``what`` run (:mod:`mentor_core.controller.deployment`)."""
+    again = " (repeatable: a run per deployment, labelled <label> (<deployment>))"
+    parser.add_argument(
+        "--deployment", action="append" if repeatable else "store", metavar="NAME|FILE",
+        help=f"run {what} as this deployment: 'shipped' (the shipped planners' of the robot: "
+        "data/deployments.yaml), 'none' (as trained; the default) or a deployment YAML file "
+        f"(docs/deployment.md){again if repeatable else ''}",
+    )  # fmt: skip
+    parser.add_argument(
+        "--set", action="append", default=[], metavar="KEY=VALUE", dest="deployment_settings",
+        help="change one key of the deployment (repeatable), a dotted key path and a YAML "
+        "value: --set stages.turn_gain.gain=1, --set decisions_per_period=1, "
+        "--set stages.collision_guard=null",
+    )  # fmt: skip
 
 
-def turn_gain_value(gain: float | None) -> float:
-    """``--turn-gain G`` as the profile's gain on the turn (1 when not given); MentorError
-    unless G lies in (0, 1]."""
-    if gain is None:
-        return 1.0
-    if not 0.0 < gain <= 1.0:
-        raise MentorError(f"--turn-gain must be in (0, 1], got {gain}")
-    return gain
+def deployment_names(args: argparse.Namespace) -> list[str]:
+    """The deployments ``--deployment`` names (``none`` when not given), in order."""
+    given = args.deployment
+    if given is None:
+        return ["none"]
+    return list(given) if isinstance(given, list) else [given]
 
 
-def view_margin(text: str) -> float:
-    """``--view-margin``'s text: a number of metres, or ``none`` (``inf``: no corridor, as
-    everything lies within an infinite margin); :func:`view_margin_value` checks it."""
-    if text.strip().lower() == "none":
-        return math.inf
-    try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected metres or 'none', got {text!r}") from None
-
-
-def view_margin_value(margin: float | None) -> float | None:
-    """``--view-margin M`` as the profile's view corridor margin (None when not given; ``inf``
-    for ``none``); MentorError unless M is a positive number of metres."""
-    if margin is not None and not margin > 0.0:
-        raise MentorError(f"--view-margin must be a positive number of metres or 'none', "
-                          f"got {margin}")  # fmt: skip
-    return margin
-
-
-def control_period_value(period: float | None) -> float | None:
-    """``--control-period S`` (None when not given); MentorError unless S is a positive number
-    of seconds (whether it is at most a genome's own period is the genome's check)."""
-    if period is not None and not (math.isfinite(period) and period > 0.0):
-        raise MentorError(f"--control-period must be a positive number of seconds, got {period}")
-    return period
-
-
-def add_clearance_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--clearance-cost W`` and ``--least-margin M``: the plan on the scan map's clearance
-    cost (``navigation.scan_map.scan_guide_config``)."""
-    parser.add_argument("--clearance-cost", type=float, metavar="W",
-                        help="with --scan-map or --deployed: the weight of the plan's cost for "
-                             "keeping less than its margin (a footprint radius) clear, >= 0; "
-                             "0: the margin is a hard disc (default: the robot's, 1 for the "
-                             "Swarm-Robot, 0 for the UGV)")
-    parser.add_argument("--least-margin", type=float, metavar="M",
-                        help="with --scan-map or --deployed and a clearance cost: the least "
-                             "margin the plan keeps, m (default half a footprint radius)")
-
-
-def clearance_values(args: argparse.Namespace, robot: RobotProfile) -> dict[str, float | None]:
-    """``--clearance-cost`` and ``--least-margin`` as ``scan_guide_config``'s keywords (None:
-    the robot's); MentorError for either without a scan map (``--scan-map`` or
-    ``--deployed``), a negative cost, or a least margin outside ``[0, the plan's whole
-    margin]`` (its robot's scan-map margin, a footprint radius)."""
-    for flag in ("clearance_cost", "least_margin"):
-        if getattr(args, flag) is not None and not (args.scan_map or args.deployed):
-            raise MentorError(f"--{flag.replace('_', '-')}: only with --scan-map or --deployed")
-    cost, least = args.clearance_cost, args.least_margin
-    if cost is not None and not (math.isfinite(cost) and cost >= 0.0):
-        raise MentorError(f"--clearance-cost must be a number >= 0, got {cost}")
-    whole = scan_guide_config(robot).margin
-    if least is not None and not (math.isfinite(least) and 0.0 <= least <= whole):
-        raise MentorError(f"--least-margin must be in [0, {whole:g}] m (the plan's whole "
-                          f"margin, a footprint radius), got {least}")  # fmt: skip
-    return {"clearance_cost": cost, "least_margin": least}
-
-
-def check_deployed(args: argparse.Namespace) -> None:
-    """MentorError when ``--deployed`` comes with one of the flags that add the layers it
-    adds itself (``--scan-map``, ``--rotation-shim``, ``--collision-guard``); its gain on
-    the turn and view corridor may be replaced (``--turn-gain``, ``--view-margin``)."""
-    if args.deployed and (args.scan_map or args.rotation_shim is not None
-                          or args.collision_guard):  # fmt: skip
-        raise MentorError("--deployed: give none of --scan-map, --rotation-shim, "
-                          "--collision-guard with it (it adds them all)")
+def deployment_of(args: argparse.Namespace, robot: str) -> list[Deployment]:
+    """The deployments ``--deployment`` and ``--set`` name for robot ``robot``, in order;
+    ConfigError naming the file or ``--set`` and the key."""
+    return [load_deployment(name, robot, args.deployment_settings)[0]
+            for name in deployment_names(args)]  # fmt: skip
 
 
 def _whole(text: str, least: int, expected: str) -> int:
@@ -157,4 +101,7 @@ def fail(prog: str, message: object) -> int:
     return 2
 
 
-__all__ = ["Parser", "count", "duration", "fail", "index", "seed"]
+__all__ = [
+    "Parser", "add_deployment_arguments", "count", "deployment_names", "deployment_of",
+    "duration", "fail", "index", "seed",
+]

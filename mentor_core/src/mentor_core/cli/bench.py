@@ -3,14 +3,16 @@
     mentor-bench runs/ugv-dual/best_genome.json --robot ugv --out bench/ugv
     mentor-bench a.json b.json --robot swarm --split test --pairs-per-family 40 --out bench/sw
     mentor-bench --robot ugv --families rooms,maze --pairs-per-family 5     # baselines only
-    mentor-bench planners/ugv-paper-dual-s1.json --robot ugv --deployed    # as deployed
-    mentor-bench planners/swarm-paper-dual-s1.json --robot swarm --deployed --turn-gain 1
-                                                    # as deployed but for the gain on the turn
+    mentor-bench planners/ugv-paper-dual-s1.json --robot ugv --deployment shipped
+    mentor-bench planners/swarm-paper-dual-s1.json --robot swarm --deployment shipped \
+        --set stages.turn_gain=null                 # as deployed but for the gain on the turn
 
-Runs each genome (with the planner settings of its metadata, as mentor-eval), the baselines
+Runs each genome (as trained, or as ``--deployment`` with ``--set`` on top), the baselines
 (``vfh``, ``bug``) and the oracle on the seeded world families of a split (validation by
 default; the test split is for reporting only), prints success / SPL per family under the
-paper's 50 s and under a limit scaled to each pair's shortest path, then each evolved planner
+paper's 50 s and under a limit scaled to each pair's shortest path (a deployment with a scan
+map or a collision guard runs each baseline plain, with each and with both too, so that the
+part they carry shows), then each evolved planner
 head to head with the best baseline per family (``report.head_to_head``) and its paths against
 that baseline's on the pairs both reached (``report.path_efficiency``), and with ``--out`` writes
 ``bench.json`` (format ``mentor-bench``), ``bench.md`` and its figures there; ``mentor-report
@@ -21,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import functools
-import math
 import sys
 import time
 from pathlib import Path
@@ -33,15 +34,10 @@ from mentor_core.atomic import write_json_atomic, write_text_atomic
 from mentor_core.benchmark.contenders import (
     HAND_WRITTEN,
     Contender,
-    as_deployed,
     behind_collision_guard,
-    behind_rotation_shim,
     evolved,
     hand_written,
     on_scan_map,
-    with_control_period,
-    with_turn_gain,
-    with_view_margin,
 )
 from mentor_core.benchmark.document import bench_document, load_bench
 from mentor_core.benchmark.parallel import run_parallel
@@ -55,18 +51,10 @@ from mentor_core.benchmark.suite import (
     reference_profile,
     shipped_limits,
 )
-from mentor_core.cli.arguments import (
-    Parser,
-    add_clearance_arguments,
-    check_deployed,
-    clearance_values,
-    control_period_value,
-    rotation_shim_threshold,
-    turn_gain_value,
-    view_margin,
-    view_margin_value,
-)
+from mentor_core.cli.arguments import Parser, add_deployment_arguments, deployment_of
 from mentor_core.cli.outputs import check_folder
+from mentor_core.controller.collision_guard import CollisionGuardStage
+from mentor_core.controller.deployment import NAMED, Deployment
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.report.head_to_head import baseline_choice, head_to_head_markdown
@@ -97,43 +85,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "shipped planners; named <baseline>-shipped); default 'auto': the "
                         "reference, and the shipped ones too where they differ from it")
     p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
-    p.add_argument("--scan-map", action="store_true",
-                   help="also run each planner but the oracle steering to a plan on the map of "
-                        "what its own sensors read, as mapped-<label> (with --rotation-shim 45 "
-                        "--collision-guard: as the shipped planners are deployed)")
-    p.add_argument("--lookahead", type=float, metavar="M",
-                   help="with --scan-map or --deployed: the carrot's distance along the "
-                        "plan, m (default 1.5 goal radii)")
-    add_clearance_arguments(p)
-    p.add_argument("--rotation-shim", type=float, metavar="DEG",
-                   help="also run each genome behind a rotation shim of this threshold "
-                        "(degrees; Nav2's default 45), as shim-<label>")  # fmt: skip
-    p.add_argument("--collision-guard", action="store_true",
-                   help="also run each planner but the oracle behind a collision guard that "
-                        "vets each decision against what its sensors read lately and backs "
-                        "up when every arc ahead would hit, as guard-<label>")
-    p.add_argument("--turn-gain", type=float, metavar="G",
-                   help="scale each genome's turn by G in (0, 1] in all its runs "
-                        "(default 1: as trained; with --deployed, its robot's)")
-    p.add_argument("--view-margin", type=view_margin, metavar="M",
-                   help="show each genome's network only what lies within M m of its way "
-                        "to its goal (the carrot on a plan) in all its runs; 'none': all "
-                        "(default: as trained, all for most genomes; with --deployed, its "
-                        "robot's)")
-    p.add_argument("--control-period", type=float, metavar="S",
-                   help="each genome decides every S s in all its runs, each decision that "
-                        "share of its trained step and turn (the same pace and turn rate); "
-                        "at most its trained period (default: as trained; with --deployed, "
-                        "its robot's)")
-    p.add_argument("--deployed", action="store_true",
-                   help="run each genome only as the shipped planners are deployed: on its "
-                        "scan map behind the collision guard and a 45 deg rotation shim, with "
-                        "its robot's decision period, gain on the turn and view corridor "
-                        "(twice per trained period; the Swarm-Robot also gain 0.75 and "
-                        "0.1 m), as mapped-guard-shim-<label>; the baselines plain, guarded, "
-                        "on their scan map and both (not with --scan-map, --rotation-shim or "
-                        "--collision-guard; --control-period, --turn-gain and --view-margin "
-                        "replace its robot's)")
+    add_deployment_arguments(p, "each genome")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path,
                    help="write bench.json, bench.md and figures into this new or empty folder")
@@ -175,8 +127,6 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
         raise MentorError("give one --label per genome")
     if len(set(labels)) != len(labels):
         raise MentorError("two planners have the same label; give --label")
-    genomes = [evolved(path, robot, label)
-               for label, path in zip(labels, args.genomes, strict=True)]  # fmt: skip
     names = [] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]
     for name in names:
         if name not in HAND_WRITTEN or HAND_WRITTEN[name][0] != "baseline":
@@ -186,28 +136,10 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     baselines = [hand_written(n, limits, n + suffix)
                  for suffix, limits in _baseline_limits(args.baseline_limits, robot, reference)
                  for n in names]  # fmt: skip
-    if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
-        raise MentorError("--lookahead must be positive (m)")
-    if args.lookahead is not None and not (args.scan_map or args.deployed):
-        raise MentorError("--lookahead: only with --scan-map or --deployed")
-    plan = clearance_values(args, robot)
-    check_deployed(args)
-    gain = None if args.turn_gain is None else turn_gain_value(args.turn_gain)
-    margin = view_margin_value(args.view_margin)
-    period = control_period_value(args.control_period)
-    if args.deployed:  # its robot's period, gain and corridor unless given
-        chosen = [as_deployed(c, args.lookahead, gain, margin, period, **plan) for c in genomes]
-        chosen += _variants(baselines, True, True, **plan, lookahead=args.lookahead)
-    else:
-        genomes = [with_control_period(c, period) for c in genomes]
-        if gain is not None and gain != 1.0:
-            genomes = [with_turn_gain(c, gain) for c in genomes]
-        genomes = [with_view_margin(c, margin) for c in genomes]
-        shim = rotation_shim_threshold(args.rotation_shim)
-        if shim is not None:
-            genomes += [behind_rotation_shim(c, shim) for c in genomes]
-        chosen = _variants(genomes + baselines, args.collision_guard, args.scan_map,
-                           **plan, lookahead=args.lookahead)  # fmt: skip
+    deployment = deployment_of(args, robot.name)[0]
+    genomes = [evolved(path, robot, label, deployment)
+               for label, path in zip(labels, args.genomes, strict=True)]  # fmt: skip
+    chosen = genomes + _variants(baselines, robot, deployment)
     chosen = chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
     if not chosen:
         raise MentorError("nothing to run: give a genome, a baseline or leave the oracle in")
@@ -215,15 +147,17 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
 
 
 def _variants(
-    contenders: list[Contender], guard: bool, scan_map: bool, **plan: float | None
+    baselines: list[Contender], robot: RobotProfile, deployment: Deployment
 ) -> list[Contender]:
-    """``contenders``, then each behind the collision guard (``guard``), then each of those on
-    its scan map (``scan_map``; ``plan``: :func:`on_scan_map`'s keywords), in that order."""
-    chosen = list(contenders)
-    if guard:
-        chosen += [behind_collision_guard(c) for c in chosen]
-    if scan_map:
-        chosen += [on_scan_map(c, **plan) for c in chosen]
+    """``baselines``, then each behind the deployment's collision guard (if it has one), then
+    each of those on its scan map (if it has one), in that order."""
+    chosen = list(baselines)
+    guards = [s for s in deployment.build() if isinstance(s, CollisionGuardStage)]
+    if guards:
+        chosen += [behind_collision_guard(c, guards[0]) for c in chosen]
+    if deployment.scan_map is not None:
+        plan = deployment.scan_map
+        chosen += [on_scan_map(c, plan.guide(c.profile)) for c in chosen]
     return chosen
 
 
@@ -279,7 +213,7 @@ def _baseline_choice(
     if missing:
         raise MentorError(f"--baselines-chosen-on {path}: its {', '.join(missing)} is not in "
                           "this run (give the same --baselines, --baseline-limits and "
-                          "--deployed)")  # fmt: skip
+                          "--deployment)")  # fmt: skip
     return {"source": str(path), "split": other["split"], "choice": choice}
 
 
@@ -308,7 +242,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.workers < 1:
             raise MentorError(f"--workers must be >= 1, got {args.workers}")
         if args.out is not None:
-            inputs = [*args.genomes, *filter(None, [args.baselines_chosen_on])]
+            given = None if args.deployment in (None, *NAMED) else Path(args.deployment)
+            inputs = [*args.genomes, *filter(None, [args.baselines_chosen_on, given])]
             check_folder("--out", args.out, inputs, args.force)
         began = time.perf_counter()
         suite, contenders = _setup(args)

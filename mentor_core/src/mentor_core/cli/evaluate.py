@@ -6,12 +6,10 @@
     mentor-eval a.json --bag bags/unseen/swarm --record out/episodes   # + an episode bag
     mentor-eval a.json --robot ugv --map office.yaml --seed 3     # pairs sampled on a ROS map
     mentor-eval a.json --bag bags/unseen/ugv --global-plan        # + along a global plan
-    mentor-eval a.json --bag bags/unseen/ugv --scan-map           # + on a map of its readings
-    mentor-eval a.json --bag bags/unseen/swarm --rotation-shim 45  # turn onto each goal first
-    mentor-eval a.json --bag bags/unseen/ugv --collision-guard     # no arc into what was read
-    mentor-eval a.json --bag bags/unseen/swarm --turn-gain 0.75    # the network turns less
-    mentor-eval a.json --bag bags/unseen/swarm --scan-map --view-margin 0.1  # sees its way only
-    mentor-eval a.json --bag bags/unseen/ugv --deployed            # only as deployed
+    mentor-eval a.json --bag bags/unseen/ugv --deployment shipped # as the shipped planners
+    mentor-eval a.json --bag bags/unseen/swarm --deployment shipped --set stages.turn_gain=null
+    mentor-eval a.json --bag bags/unseen/ugv --deployment my_deployment.yaml
+    mentor-eval a.json --bag bags/unseen/ugv --deployment none --deployment shipped  # both
 
 An episode ends within the goal radius, at the time limit (50 s) or on a collision. Prints a
 table per planner and writes JSON (format ``mentor-eval``) that ``mentor-report`` draws.
@@ -21,21 +19,13 @@ ROS map (``map_server`` YAML + PGM; ``--n`` start/goal pairs sampled with ``--se
 default). ``--global-plan`` runs every genome a second time, labelled ``<label> +global-plan``,
 its network steered towards a point ``--lookahead`` m along a shortest path planned on the
 world's occupancy grid (:mod:`mentor_core.navigation.guide`), the plain run beside it.
-``--rotation-shim`` runs the genomes behind a rotation shim
-(:mod:`mentor_core.sim.rotation_shim`), as the planner node's ``rotation_shim_deg`` does;
-``--collision-guard`` behind a collision guard (:mod:`mentor_core.sim.collision_guard`), as
-the planner node's ``collision_guard`` does; ``--turn-gain`` scales the network's turn
-(:mod:`mentor_core.sim.turn_gain`), as the planner node's ``turn_gain`` does; ``--view-margin``
-shows the network only what lies near its way (:mod:`mentor_core.sim.view_corridor`), as the
-planner node's ``view_margin`` does (``--view-margin none`` shows it everything, even a genome
-trained with a corridor); ``--control-period`` has it decide more often than trained, each
-decision that share of its step and turn (:mod:`mentor_core.sim.decision_split`), as the
-planner node's ``control_period`` does. ``--deployed`` runs each genome only as the shipped
-planners are deployed: the ``+scan-map`` run behind the shim (45 deg) and the guard, with the
-robot's decision period, gain on the turn and view corridor (the UGV's half its trained
-period, the Swarm-Robot's 0.75 and 0.1 m; ``--control-period``, ``--turn-gain`` and
-``--view-margin`` replace them, to leave one layer out), without the plain run
-(:func:`mentor_core.benchmark.contenders.as_deployed`).
+``--deployment`` runs each genome as a deployment (:mod:`mentor_core.controller.deployment`:
+``shipped``, ``none`` or a file; ``--set`` changes one key of it), as ``mentor-bench`` and the
+planner node's ``deployment`` do; one whose deployment has a scan map steers to the carrot of
+a plan on the map of its own readings (the ``--global-plan`` run along the world's grid
+instead). Given more than once, each genome runs once per deployment, labelled ``<label>
+(<deployment>)``: ``--deployment none --deployment shipped`` sets as trained beside as
+deployed.
 
 A scenario whose start puts the robot's body into an obstacle or a wall is skipped with a
 warning line (as the simulator node skips it: :func:`mentor_core.sim.scenarios.start_overlap`);
@@ -56,44 +46,29 @@ import numpy as np
 from mentor_core.atomic import write_json_atomic
 from mentor_core.cli.arguments import (
     Parser,
-    add_clearance_arguments,
-    check_deployed,
-    clearance_values,
-    control_period_value,
+    add_deployment_arguments,
     count,
+    deployment_names,
+    deployment_of,
     duration,
     fail,
-    rotation_shim_threshold,
     seed,
-    turn_gain_value,
-    view_margin,
-    view_margin_value,
 )
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
+from mentor_core.controller.deployment import NAMED
 from mentor_core.errors import FileFormatError, MentorError, one_line
 from mentor_core.files.bags import read_scenario_bag
-from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.navigation.grid import world_grid
 from mentor_core.navigation.guide import GuideConfig, guide_config, guided_goals, world_guides
 from mentor_core.navigation.map_world import load_map_world, load_world_file
-from mentor_core.navigation.scan_map import scan_guide_config, scan_guided_goals
+from mentor_core.navigation.scan_map import scan_guided_goals
 from mentor_core.runtime.guided_planner import GuidedPlanner, ScanGuidedPlanner
-from mentor_core.runtime.planner import (
-    DEPLOYED_SHIM_DEG,
-    GenomePlanner,
-    deployed_control_period,
-    deployed_turn_gain,
-    deployed_view_margin,
-    planner_profile,
-)
+from mentor_core.runtime.planner import GenomePlanner, deployed_genome
 from mentor_core.runtime.recording import record_planners
 from mentor_core.runtime.robot_graph import one_period
 from mentor_core.runtime.simulator import Decide
-from mentor_core.sim.decision_split import at_control_period
-from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scenarios import sample_scenarios, sample_world, start_overlap
-from mentor_core.sim.view_corridor import set_view_margin
 from mentor_core.sim.world import Scenario, World
 from mentor_core.training.assessment import TEST_TIME_LIMIT, Assessment, assess
 
@@ -249,15 +224,14 @@ def record(
 
 
 def _planner(
-    plain: GenomePlanner, guide: GuideConfig, world: World, mode: str
+    plain: GenomePlanner, guide: GuideConfig | None, world: World, mode: str
 ) -> GenomePlanner | GuidedPlanner | ScanGuidedPlanner:
-    """The planner recorded for a run of ``mode`` (``""``, ``"+global-plan"`` or
-    ``"+scan-map"``): the plain one, the guided one planning on ``world``'s grid, or the one
-    planning on the map of its own readings (the arena's square, as in the table)."""
-    if mode == "+scan-map":
-        return ScanGuidedPlanner(plain, guide, world.size)
+    """The planner recorded for a run of ``mode`` (``""`` or ``"+global-plan"``): the plain
+    one, or with ``guide`` the one planning on the map of its own readings (the arena's
+    square, as in the table), or the guided one planning on ``world``'s grid."""
     if not mode:
-        return plain
+        return plain if guide is None else ScanGuidedPlanner(plain, guide, world.size)
+    assert guide is not None
     planner = GuidedPlanner(plain, guide)
     planner.set_map(world_grid(world, guide.resolution))
     return planner
@@ -293,65 +267,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="also run each genome along a shortest path planned on the world's grid",
     )
     p.add_argument(
-        "--scan-map",
-        action="store_true",
-        help="also run each genome along a plan on the map of its own readings (unknown "
-        "space free; as mentor-bench --scan-map and the planner node's scan_map)",
-    )
-    p.add_argument(
         "--lookahead",
         type=float,
         metavar="M",
-        help="m along the path the network steers to (default: 2 goal radii along a global "
-             "plan, 1.5 on the scan map)",
+        help="with --global-plan: m along the path the network steers to (default: 2 goal "
+        "radii)",
     )
-    add_clearance_arguments(p)
-    p.add_argument(
-        "--rotation-shim",
-        type=float,
-        metavar="DEG",
-        help="run the genomes behind a rotation shim: turn on the spot onto each goal until "
-        "it lies within DEG degrees, then the network drives (Nav2's default: 45)",
-    )
-    p.add_argument(
-        "--collision-guard",
-        action="store_true",
-        help="run the genomes behind a collision guard: no arc into what the sensors read "
-        "in the last three decisions, a step back when every arc ahead would hit",
-    )
-    p.add_argument(
-        "--turn-gain",
-        type=float,
-        metavar="G",
-        help="scale the network's turn by G in (0, 1] (default 1: as trained; with "
-        "--deployed, the robot's)",
-    )
-    p.add_argument(
-        "--view-margin",
-        type=view_margin,
-        metavar="M",
-        help="show the network only what lies within M m of its way to its goal (the carrot "
-        "with --scan-map or --global-plan); 'none': all (default: as trained, all for most "
-        "genomes; with --deployed, the robot's)",
-    )
-    p.add_argument(
-        "--control-period",
-        type=float,
-        metavar="S",
-        help="decide every S s, each decision that share of the trained step and turn (the "
-        "same pace and turn rate); at most the genome's period (default: as trained; with "
-        "--deployed, the robot's)",
-    )
-    p.add_argument(
-        "--deployed",
-        action="store_true",
-        help="run each genome only as deployed: on the map of its own readings behind the "
-        "rotation shim (45 deg) and the collision guard, with the robot's decision period, "
-        "gain on the turn and view corridor (twice per trained period; the Swarm-Robot also "
-        "gain 0.75 and 0.1 m), without the plain run (not with --scan-map, --rotation-shim or "
-        "--collision-guard; --control-period, --turn-gain and --view-margin replace the "
-        "robot's)",
-    )
+    add_deployment_arguments(p, "each genome", repeatable=True)
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out file or --record bag"
     )
@@ -361,8 +283,9 @@ def build_parser() -> argparse.ArgumentParser:
 def check_outputs(args: argparse.Namespace) -> None:
     """Refuse ``--out`` and ``--record`` paths that would replace an input, or an existing
     file or bag without ``--force`` (before any work)."""
+    given = [Path(d) for d in deployment_names(args) if d not in NAMED]
     sources = (args.world, args.bag, args.map)
-    inputs = [*args.genomes, *(p for p in sources if p is not None)]
+    inputs = [*args.genomes, *(p for p in sources if p is not None), *given]
     check_distinct({"--out": args.out, "--record": args.record})
     if args.out is not None:
         check_file("--out", args.out, inputs, args.force)
@@ -398,57 +321,39 @@ def main(argv: list[str] | None = None) -> int:
         return fail("mentor-eval", "--label: give one --label per genome")
     if args.lookahead is not None and not (math.isfinite(args.lookahead) and args.lookahead > 0):
         return fail("mentor-eval", "--lookahead must be a positive number of metres")
+    if args.lookahead is not None and not args.global_plan:
+        return fail("mentor-eval", "--lookahead: only with --global-plan")
     try:
-        check_deployed(args)
-        if args.deployed:
-            args.scan_map, args.collision_guard = True, True
-            args.rotation_shim = DEPLOYED_SHIM_DEG
-        shim = rotation_shim_threshold(args.rotation_shim)
-        gain = turn_gain_value(args.turn_gain)
-        margin = view_margin_value(args.view_margin)
-        period = control_period_value(args.control_period)
         check_outputs(args)
         profile, world, scenarios, source = load_scenarios(args)
-        plan = clearance_values(args, profile)
-        if args.deployed:  # the robot's gain and corridor unless given
-            if args.turn_gain is None:
-                gain = deployed_turn_gain(profile)
-            if margin is None:
-                margin = deployed_view_margin(profile)
+        deployments = list(zip(deployment_names(args), deployment_of(args, profile.name),
+                               strict=True))  # fmt: skip
         numbers, skipped = runnable(profile, world, scenarios, source)
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
         planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner] = []
         recorded: list[RobotProfile] = []  # the profile each recorded planner decides with
-        first = [] if args.deployed else [""]  # the plain run
-        modes = first + ["+global-plan"] * args.global_plan + ["+scan-map"] * args.scan_map
-        for label, path in zip(labels, args.genomes, strict=True):
-            genome, metadata = load_genome_and_metadata(path)
-            planner = planner_profile(profile, metadata, path)
-            if args.deployed and period is None:  # the robot's, of this genome's period
-                planner = at_control_period(planner, deployed_control_period(planner), path)
-            else:
-                planner = at_control_period(planner, period, path)
-            if shim is not None:
-                planner = with_planner(planner, rotation_shim=shim, source=path)
-            if args.collision_guard:
-                planner = with_planner(planner, collision_guard=True, source=path)
-            if gain != 1.0:
-                planner = with_planner(planner, turn_gain=gain, source=path)
-            planner = set_view_margin(planner, margin, path)
-            guide = guide_config(planner, lookahead=args.lookahead)
-            mapped = scan_guide_config(planner, lookahead=args.lookahead, **plan)
+        modes = [""] + ["+global-plan"] * args.global_plan
+        runs_of = [(label, path, name, deployment)
+                   for label, path in zip(labels, args.genomes, strict=True)
+                   for name, deployment in deployments]  # fmt: skip
+        for label, path, name, deployment in runs_of:
+            genome, deployed = deployed_genome(path, profile.name, deployment)
+            planner = deployed.profile
             goals = [sc.goal for sc in chosen]
+            if len(deployments) > 1:
+                label = f"{label} ({name})"
             for mode in modes:
+                guide = deployed.guide
                 aims = None
                 if mode == "+global-plan":
+                    guide = guide_config(planner, lookahead=args.lookahead)
                     aims = guided_goals(world_guides(world, guide, len(goals)), goals)
-                elif mode == "+scan-map":
-                    aims = scan_guided_goals(chosen, planner, mapped)[0]
+                elif guide is not None:
+                    aims = scan_guided_goals(chosen, planner, guide)[0]
                 try:
-                    assessment = assess(
-                        genome, planner, chosen, args.time_limit, aims, numbers
-                    )
+                    assessment = assess(genome, planner, chosen, args.time_limit, aims, numbers,
+                                        deployed.stages)  # fmt: skip
                 except ValueError as err:
                     raise FileFormatError(path, str(err)) from None
                 run_label = f"{label} {mode}" if mode else label
@@ -456,9 +361,8 @@ def main(argv: list[str] | None = None) -> int:
                 runs.append((run_label, str(path), assessment))
                 if args.record is not None:
                     # the guard counts the arena's border as known, as in the table
-                    plain = GenomePlanner(genome, planner, str(path), arena=world.size)
-                    config = mapped if mode == "+scan-map" else guide
-                    planners.append(_planner(plain, config, world, mode))
+                    plain = GenomePlanner(genome, planner, str(path), world.size, deployed.stages)
+                    planners.append(_planner(plain, guide, world, mode))
                     recorded.append(planner)
         if args.record is not None:
             record(args.record, _one_period(recorded), world, chosen, args.time_limit, runs,

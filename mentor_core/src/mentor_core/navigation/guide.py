@@ -250,7 +250,7 @@ def guided_goals(
     guides: Sequence[PathGuide], goals: ArrayLike
 ) -> Callable[[FloatArray, IntArray], FloatArray]:
     """``input_goals(poses (m, 3), robots (m,)) -> (m, 2)`` for
-    :func:`mentor_core.sim.episode.run_episodes`: robot ``i`` follows ``guides[i]`` to
+    :func:`mentor_core.controller.episodes.run_episodes`: robot ``i`` follows ``guides[i]`` to
     ``goals[i]``."""
     final = np.asarray(goals, dtype=np.float64).reshape(-1, 2)
 

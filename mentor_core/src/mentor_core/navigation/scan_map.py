@@ -207,7 +207,7 @@ def scan_guide_config(
     distance off the plan before planning again is the same) and the clearance cost
     ``clearance_cost`` for keeping less than the default margin, down to ``least_margin`` m
     (defaults: its robot's :data:`SCAN_CLEARANCE_COST`, :data:`SCAN_LEAST_MARGIN_RADII`
-    footprint radii; a cost of 0: the margin is a hard disc) (``mentor-bench --scan-map``)."""
+    footprint radii; a cost of 0: the margin is a hard disc) (a deployment's ``scan_map``)."""
     ahead = SCAN_LOOKAHEAD_RADII * profile.goal_radius if lookahead is None else lookahead
     cell = scan_map_resolution(profile) if resolution is None else resolution
     weight = SCAN_CLEARANCE_COST.get(profile.name, 0.0)
@@ -231,7 +231,7 @@ def scan_guided_goals(
     scenarios: Sequence[Scenario], profile: RobotProfile, config: GuideConfig,
     beam_arcs: bool = False,
 ) -> tuple[Callable[[FloatArray, IntArray], FloatArray], list[ScanGuide]]:  # fmt: skip
-    """``input_goals`` for :func:`mentor_core.sim.episode.run_episodes` on ``scenarios``:
+    """``input_goals`` for :func:`mentor_core.controller.episodes.run_episodes` on ``scenarios``:
     robot ``i`` plans on the map of what its own sensors read (the readings the simulator
     gives it at its pose), and the guides (for their maps and plan counts). ``beam_arcs``:
     a beam sensor's hit goes on every ray of its cone (:class:`ScanMap`), else only its free

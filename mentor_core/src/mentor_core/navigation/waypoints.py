@@ -42,7 +42,7 @@ IntArray = NDArray[np.int64]
 
 class WaypointGoals:
     """``input_goals(poses (m, 3), robots (m,)) -> (m, 2)`` for
-    :func:`mentor_core.sim.episode.run_episodes`: robot ``i`` on
+    :func:`mentor_core.controller.episodes.run_episodes`: robot ``i`` on
     ``scenarios[i % len(scenarios)]`` is shown the way into the disc of ``goal_radius`` (m)
     about its goal (module docstring). Robots are indexed as
     :meth:`mentor_core.training.problem.NavigationProblem.simulate` numbers them (genome-major

@@ -8,6 +8,6 @@ the simulator node's whole run (episodes, stepping, goals, events, sim time: ``s
 and ROS ``-p`` values checked before rcl sees them. The node packages only turn messages into
 calls of these and back.
 
-May import every wing below it (errors, atomic, evolution, sim, objectives, files); never
-training, report or cli.
+May import every wing below it (errors, atomic, evolution, sim, objectives, files,
+navigation, controller); never training, report or cli.
 """

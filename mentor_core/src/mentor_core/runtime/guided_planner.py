@@ -8,8 +8,9 @@ the global path (given, or planned on the map it was handed), the final goal nea
 end. The planner node calls it with the map and paths it receives; ``mentor-eval
 --global-plan`` runs the same guide offline (:func:`mentor_core.navigation.guide.guided_goals`).
 :class:`ScanGuidedPlanner` plans on the map of what the robot itself has read instead
-(:class:`~mentor_core.navigation.scan_map.ScanGuide`), as ``mentor-bench --scan-map`` and
-``mentor-eval --scan-map`` run it (:func:`mentor_core.navigation.scan_map.scan_guided_goals`).
+(:class:`~mentor_core.navigation.scan_map.ScanGuide`), as ``mentor-bench`` and ``mentor-eval``
+run a deployment with a ``scan_map``
+(:func:`mentor_core.navigation.scan_map.scan_guided_goals`).
 
 :func:`wire_grid` is the grid a ``nav_msgs/OccupancyGrid`` carries (its resolution is a
 float32), so an in-process episode plans on exactly what the planner node receives.
@@ -90,7 +91,7 @@ class ScanGuidedPlanner:
 
     def reset(self, keep_map: bool = False) -> None:
         """Start blank (a new goal or episode): the network as :meth:`GenomePlanner.reset`,
-        and an empty map, as each episode of ``mentor-bench --scan-map`` starts; with
+        and an empty map, as each episode of ``mentor-bench`` starts; with
         ``keep_map`` the map stays (a robot sent to its next goal in the same place) and the
         next plan is made on all of it."""
         self.planner.reset()

@@ -1,10 +1,9 @@
 """The planner: an evolved genome deciding for one robot, and when to decide.
 
-:class:`GenomePlanner` is the trainer's decision pipeline for a single robot, built from the
-same functions the trainer uses (:func:`mentor_core.sim.observation.network_inputs`,
-:class:`mentor_core.evolution.network.FeedForwardNetwork`,
-:func:`mentor_core.sim.observation.actions_from_outputs`,
-:func:`mentor_core.sim.observation.twist_from_action`). The planner node calls nothing else.
+:class:`GenomePlanner` is the decision chain of the batched episodes
+(:class:`mentor_core.controller.pipeline.DecisionChain`) for a single robot, through the stages
+of its deployment (:func:`deployed_genome`), and its Twist
+(:func:`mentor_core.sim.observation.twist_from_action`). The planner node calls nothing else.
 
 :class:`DecisionGate` is the planner node's bookkeeping, kept here so that it is tested
 without a ROS graph. The node feeds it every scan, odometry, goal and episode event with its
@@ -54,14 +53,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mentor_core.controller.deployment import Deployed, Deployment, deploy, trained_stages
+from mentor_core.controller.pipeline import DecisionChain
+from mentor_core.controller.stage import Stage
 from mentor_core.errors import ConfigError, short_repr
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
 from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.sim import observation
-from mentor_core.sim.collision_guard import CollisionGuard
-from mentor_core.sim.decision_split import at_control_period
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import (
     ROBOTS_ENV,
@@ -70,14 +70,12 @@ from mentor_core.sim.robots import (
     load_profiles,
     sensor_record,
 )
-from mentor_core.sim.rotation_shim import rotation_shim
-from mentor_core.sim.turn_gain import turn_gain
-from mentor_core.sim.view_corridor import set_view_margin
 
 FloatArray = NDArray[np.float64]
 Pose = tuple[float, float, float]
 _NS_PER_S = 1_000_000_000
 _END_EVENTS = frozenset({"reached", "collided", "timed_out"})
+_ONE = np.zeros(1, dtype=np.int64)  # the one robot of a planner's decision chain
 
 
 def planner_profile(
@@ -87,8 +85,9 @@ def planner_profile(
     (``"paper"`` for a genome saved before the key existed), ``heading_change_max`` (rad),
     ``step_max`` and ``step_min`` (m; each the profile's when absent),
     ``clearance_margin`` (m; absent: none), ``feedback_action``, ``memory_units`` and
-    ``rotation_shim`` (rad), ``proximity_scale`` and ``view_margin`` (m) (absent: off, as
-    every genome saved before they existed) and ``control_period`` (s; absent: the robot's).
+    ``proximity_scale`` (m) (absent: off, as every genome saved before they existed) and
+    ``control_period`` (s; absent: the robot's). The stages it was trained with are
+    :func:`~mentor_core.controller.deployment.trained_stages`'.
 
     ConfigError naming ``source`` for a bad value, and for metadata whose ``sensors`` record
     (:func:`mentor_core.sim.robots.sensor_record`; absent in genomes saved before it existed)
@@ -121,60 +120,10 @@ def planner_profile(
         clearance_margin=metadata.get("clearance_margin"),
         feedback_action=metadata.get("feedback_action"),
         memory_units=metadata.get("memory_units"),
-        rotation_shim=metadata.get("rotation_shim"),
         control_period=metadata.get("control_period"),
         proximity_scale=metadata.get("proximity_scale"),
-        view_margin=metadata.get("view_margin"),
         source=source,
     )
-
-
-#: the gain on the network's turn (:mod:`mentor_core.sim.turn_gain`) the shipped planners are
-#: deployed with, per robot (absent: 1). Chosen on the benchmark's validation split
-#: (experiment E054, "A gain on the turn"): the Swarm-Robot's shipped planners reach
-#: 89.9 % of its 720 pairs as trained and 90.7 % at 0.75; the UGV's gained nothing.
-DEPLOYED_TURN_GAIN = {"swarm": 0.75}
-
-#: the rotation shim's threshold the shipped planners are deployed behind, deg (Nav2's default)
-DEPLOYED_SHIM_DEG = 45.0
-
-#: the view corridor's margin (:mod:`mentor_core.sim.view_corridor`) the shipped planners are
-#: deployed with, m, per robot (absent: none). Chosen on the benchmark's validation split
-#: (experiment E064, "A view corridor"): the Swarm-Robot's shipped planners reach
-#: 90.7 % / 0.795 SPL of its 720 pairs without and 91.7 % / 0.813 with 0.1 m; the UGV's lost
-#: goals with any.
-DEPLOYED_VIEW_MARGIN = {"swarm": 0.1}
-
-
-#: decisions a shipped planner of a robot makes in the period it was trained to decide in
-#: (:mod:`mentor_core.sim.decision_split`; absent: 1). Chosen on the benchmark's validation
-#: split (experiment E079, "Deciding twice as often at deployment"): the UGV's
-#: shipped planners reach 96.8 % / 0.761 SPL of its 720 pairs at 0.5 s and 97.5 % / 0.801 at
-#: 0.25 s; the Swarm-Robot's, on their scan map's plan with its clearance cost ("The
-#: Swarm-Robot deciding twice a second, with the clearance cost"), 92.6 % / 0.854 of its 1,440
-#: pairs at 1 s and 92.5 % / 0.863 at 0.5 s.
-DEPLOYED_DECISIONS = {"ugv": 2, "swarm": 2}
-
-
-def deployed_control_period(profile: RobotProfile) -> float:
-    """The period (s) a shipped planner of ``profile`` (a planner's profile: its trained
-    period) decides at: that period over its robot's :data:`DEPLOYED_DECISIONS`."""
-    return profile.control_period / DEPLOYED_DECISIONS.get(profile.name, 1)
-
-
-def deployed_turn_gain(profile: RobotProfile | str) -> float:
-    """The gain on the turn the shipped planners of a robot (a profile or its name) are
-    deployed with (:data:`DEPLOYED_TURN_GAIN`; 1 for any other robot)."""
-    name = profile if isinstance(profile, str) else profile.name
-    return DEPLOYED_TURN_GAIN.get(name, 1.0)
-
-
-def deployed_view_margin(profile: RobotProfile | str) -> float | None:
-    """The view corridor's margin (m) the shipped planners of a robot (a profile or its name)
-    are deployed with (:data:`DEPLOYED_VIEW_MARGIN`; None, no corridor, for any other
-    robot)."""
-    name = profile if isinstance(profile, str) else profile.name
-    return DEPLOYED_VIEW_MARGIN.get(name)
 
 
 def genome_profile(genome_path: str | Path, profile_name: str) -> RobotProfile:
@@ -192,15 +141,28 @@ def genome_control_period(genome_path: str | Path, profile_name: str) -> float:
     return genome_profile(genome_path, profile_name).control_period
 
 
-class GenomePlanner:
-    """One robot's decisions from an evolved genome, exactly as in training.
+def deployed_genome(
+    genome_path: str | Path, profile_name: str, deployment: Deployment | None = None
+) -> tuple[Genome, Deployed]:
+    """The genome in ``genome_path`` and how it runs on robot ``profile_name`` as
+    ``deployment`` (None: as trained, with the stages its metadata names). FileFormatError
+    (corrupt or missing genome), ConfigError (unknown profile, a genome for another robot, a
+    bad setting), each one line naming the file or key."""
+    genome, metadata = load_genome_and_metadata(genome_path)
+    profile = planner_profile(get_profile(profile_name), metadata, genome_path)
+    trained = trained_stages(metadata, genome_path)
+    return genome, deploy(profile, trained, deployment or Deployment(), genome_path)
 
-    A planner with a context (``profile.n_context``), a recurrent network or a rotation shim
-    (``profile.rotation_shim``) is stateful: each decision reads what the previous one output
-    (its network's previous values, whether it has turned onto its goal yet), as in an
-    episode of training, until :meth:`reset`. So is one behind a collision guard
-    (``profile.collision_guard``, :mod:`mentor_core.sim.collision_guard`): it remembers the
-    last decisions' readings. Its guard counts only what was read as an obstacle unless
+
+class GenomePlanner:
+    """One robot's decisions from an evolved genome, exactly as in training and in the
+    benchmark: the decision chain of one robot
+    (:class:`~mentor_core.controller.pipeline.DecisionChain`) through ``stages``.
+
+    A planner with a context (``profile.n_context``), a recurrent network or a stage that
+    remembers (a rotation shim: whether it has turned onto its goal yet; a collision guard:
+    the last decisions' readings) is stateful, as in an episode of training, until
+    :meth:`reset`. A collision guard counts only what was read as an obstacle unless
     ``arena`` (m) names the side of the simulated arena the robot drives in, whose border it
     then counts as known, as the batched episodes do.
 
@@ -209,7 +171,7 @@ class GenomePlanner:
 
     def __init__(
         self, genome: Genome, profile: RobotProfile, source: str = "<genome>",
-        arena: float | None = None,
+        arena: float | None = None, stages: tuple[Stage, ...] = (),
     ) -> None:  # fmt: skip
         fault = profile.network_mismatch(genome.n_inputs, genome.n_outputs)
         if fault:
@@ -217,82 +179,55 @@ class GenomePlanner:
         self.genome = genome
         self.profile = profile
         self.network = FeedForwardNetwork.from_genome(genome)
-        self._context = observation.initial_context(1, profile)
+        self.chain = DecisionChain(profile, stages, 1, arena)
         self._memory = self.network.new_memory(1)
-        self._aligned = np.zeros(1, dtype=np.bool_)
-        self.guard = CollisionGuard(1, profile, arena) if profile.collision_guard else None
+
+    @property
+    def stages(self) -> tuple[Stage, ...]:
+        """The stages its decisions pass, in order."""
+        return self.chain.stages
 
     def reset(self) -> None:
         """Start blank: the next decision reads the context of a first decision (a new goal or
-        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory, a
-        rotation shim turns onto the goal again, and a collision guard forgets what it read."""
-        self._context = observation.initial_context(1, self.profile)
+        episode; :func:`mentor_core.sim.observation.initial_context`) and a zero memory, and
+        every stage forgets (a rotation shim turns onto the goal again, a collision guard
+        forgets what it read)."""
+        self.chain.reset()
         self._memory = self.network.new_memory(1)
-        self._aligned = np.zeros(1, dtype=np.bool_)
-        if self.guard is not None:
-            self.guard.reset()
 
     @classmethod
     def load(
-        cls, genome_path: str | Path, profile_name: str, rotation_shim: float | None = None,
-        collision_guard: bool = False, turn_gain: float = 1.0,
-        view_margin: float | None = None, control_period: float | None = None,
+        cls, genome_path: str | Path, profile_name: str, deployment: Deployment | None = None,
+        arena: float | None = None,
     ) -> GenomePlanner:  # fmt: skip
-        """Planner of a genome JSON file for a named profile; ``rotation_shim`` (rad), when
-        given, puts it behind a rotation shim of that threshold whatever its metadata says
-        (:mod:`mentor_core.sim.rotation_shim`); ``collision_guard`` behind a collision guard
-        on no arena (:mod:`mentor_core.sim.collision_guard`); ``turn_gain`` scales its
-        network's turn (:mod:`mentor_core.sim.turn_gain`); ``view_margin`` (m), when given,
-        shows its network only what lies near its way (:mod:`mentor_core.sim.view_corridor`;
-        ``inf``: everything, even for a genome trained with a corridor); ``control_period``
-        (s), when given, has it decide that often, each decision that share of its trained
-        period's step and turn (:mod:`mentor_core.sim.decision_split`).
-
-        FileFormatError (corrupt or missing genome), ConfigError (unknown profile, genome
-        that does not fit it, a threshold outside (0, pi], a gain outside (0, 1], a margin
-        that is not positive, a period longer than the trained one); both one line naming
-        the file or key and the fault.
-        """
-        genome, metadata = load_genome_and_metadata(genome_path)
-        profile = planner_profile(get_profile(profile_name), metadata, genome_path)
-        profile = at_control_period(profile, control_period, genome_path)
-        if rotation_shim is not None:
-            profile = with_planner(profile, rotation_shim=rotation_shim, source=genome_path)
-        if collision_guard:
-            profile = with_planner(profile, collision_guard=True, source=genome_path)
-        if turn_gain != 1.0:
-            profile = with_planner(profile, turn_gain=turn_gain, source=genome_path)
-        profile = set_view_margin(profile, view_margin, genome_path)
-        return cls(genome, profile, source=str(genome_path))
+        """Planner of a genome JSON file for a named profile, run as ``deployment`` (None:
+        as trained; :func:`deployed_genome`; its plan is the caller's to follow). The errors
+        of :func:`deployed_genome`, and ConfigError for a genome that does not fit the
+        profile."""
+        genome, deployed = deployed_genome(genome_path, profile_name, deployment)
+        return cls(genome, deployed.profile, str(genome_path), arena, deployed.stages)
 
     def decide(
         self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike
     ) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) for readings (k,) (m, +inf out of range), pose
         (x, y, theta) and goal (x, y) in ``map``. ValueError for NaN or malformed input (the
-        context is then left as it was). Behind a collision guard ``ds`` may be negative (a
+        planner is then left as it was). Behind a collision guard ``ds`` may be negative (a
         step back)."""
-        readings = np.asarray(ranges, dtype=np.float64).reshape(1, -1)
-        where = np.asarray(pose, dtype=np.float64).reshape(1, 3)
-        inputs = observation.network_inputs(
-            readings,
-            where,
-            np.asarray(goal, dtype=np.float64).reshape(1, 2),
-            self.profile,
-            self._context,
-        )
         memory = self._memory.copy()  # kept as it was if the decision fails
-        outputs = turn_gain(self.network.activate(inputs, memory), self.profile)
-        outputs, aligned = rotation_shim(outputs, inputs, self._aligned, self.profile)
-        dtheta, ds = observation.actions_from_outputs(outputs, self.profile, readings)
-        if self.guard is not None:  # as the batched episodes vet it (sim/episode.py)
-            self.guard.observe([0], where, readings)
-            dtheta, ds = self.guard.vet([0], where, dtheta, ds, readings)
-        self._aligned = aligned
-        if self.profile.n_context:
-            self._context = observation.next_context(outputs, self.profile)
+
+        def policy(inputs: FloatArray, robots: NDArray[np.int64]) -> FloatArray:
+            return self.network.activate(inputs, memory)
+
+        decision = self.chain.decide(
+            _ONE,
+            np.asarray(ranges, dtype=np.float64).reshape(1, -1),
+            np.asarray(pose, dtype=np.float64).reshape(1, 3),
+            np.asarray(goal, dtype=np.float64).reshape(1, 2),
+            policy,
+        )
         self._memory = memory
-        return float(dtheta[0]), float(ds[0])
+        return float(decision.dtheta[0]), float(decision.ds[0])
 
     def command(
         self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike, dt: float | None = None

@@ -3,15 +3,14 @@ and ``mentor.launch.py`` both start.
 
 One robot per profile entry, named ``<profile>_<i>`` (``ugv ugv swarm``: ``ugv_0``, ``ugv_1``,
 ``swarm_0``), each planning with its profile's genome (``bags/regression/<profile>_reference_
-genome.json`` unless one is given). A *headline* planner runs as ``mentor-bench --deployed``
-scores it (:func:`mentor_core.benchmark.contenders.as_deployed`): at its robot's control
-period, on a map of its own scans, behind the rotation shim (45 deg) and the collision guard,
-with its robot's gain on the turn and view corridor.
+genome.json`` unless one is given), run as a deployment (the planner node's ``deployment``:
+``none``, ``shipped`` or a file; :mod:`mentor_core.controller.deployment`), as
+``mentor-bench --deployment`` runs it.
 
-The simulator steps at the period the planners decide at (their genomes' metadata, or the
-headline period). In lockstep every planner must decide at the same period; in continuous
-mode (the simulator runs like Gazebo and each planner decides on its own timer) they may
-differ, and the simulator steps at the shortest.
+The simulator steps at the period the planners decide at (their genomes' metadata and their
+deployment's ``decisions_per_period``). In lockstep every planner must decide at the same
+period; in continuous mode (the simulator runs like Gazebo and each planner decides on its own
+timer) they may differ, and the simulator steps at the shortest.
 """
 
 from __future__ import annotations
@@ -21,28 +20,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from mentor_core.controller.deployment import load_deployment
 from mentor_core.errors import FileFormatError, MentorError
-from mentor_core.runtime.planner import (
-    DEPLOYED_SHIM_DEG,
-    deployed_control_period,
-    deployed_turn_gain,
-    deployed_view_margin,
-    genome_control_period,
-    genome_profile,
-)
+from mentor_core.runtime.planner import deployed_genome
 from mentor_core.sim.robots import get_profile
-
-
-def headline_parameters(profile: str, genome: str | Path) -> dict[str, Any]:
-    """The planner node's parameters that run the genome in ``genome`` on a robot of
-    ``profile`` as a headline planner, as ``mentor-bench --deployed`` does (module
-    docstring): the robot's control period for it, its scan map, the rotation shim, the
-    collision guard, the robot's gain on the turn and its view corridor's margin (0: none).
-    The genome file's errors (:func:`~mentor_core.runtime.planner.genome_profile`)."""
-    period = deployed_control_period(genome_profile(genome, profile))
-    return {"control_period": period, "scan_map": True, "rotation_shim_deg": DEPLOYED_SHIM_DEG,
-            "collision_guard": True, "turn_gain": deployed_turn_gain(profile),
-            "view_margin": deployed_view_margin(profile) or 0.0}  # fmt: skip
 
 
 def default_genome(profile: str) -> str:
@@ -76,7 +57,7 @@ class RobotPlanner:
         namespace: the robot's namespace, without the leading slash.
         profile: the robot profile's name.
         genome: the genome file the planner loads.
-        options: the planner node's other parameters (the headline mode, the timer).
+        options: the planner node's other parameters (the deployment, the timer).
     """
 
     namespace: str
@@ -95,7 +76,7 @@ def robot_planners(
     genomes: Mapping[str, str] | None = None,
     *,
     names: Sequence[str] | None = None,
-    headline: bool = False,
+    deployment: str = "none",
     continuous: bool = False,
 ) -> list[RobotPlanner]:
     """The robots of ``profiles`` (one each) and their planners' parameters (module
@@ -106,11 +87,12 @@ def robot_planners(
         genomes: genome file per profile; a profile not in it plans with
             :func:`default_genome`.
         names: the robots' namespaces (default :func:`robot_names`).
-        headline: run the planners as the benchmark's headline planners.
+        deployment: how every planner runs (the planner node's ``deployment``).
         continuous: the planners decide on their own timers (``decide_on_timer``).
 
     Raises MentorError for no robot, an unknown profile, a count of names that does not
-    match, a genome given for a profile no robot has, or a genome file that does not exist.
+    match, a genome given for a profile no robot has, a genome file that does not exist, or
+    a deployment that cannot be read.
     """
     given = dict(genomes or {})
     spare = sorted(set(given) - set(profiles))
@@ -129,8 +111,9 @@ def robot_planners(
         if not Path(genome).is_file():
             raise FileFormatError(genome, f"no such genome file (give one for {profile})")
         options: dict[str, Any] = {}
-        if headline:
-            options.update(headline_parameters(profile, genome))
+        if deployment != "none":
+            load_deployment(deployment, profile)  # its faults now, not in a node
+            options["deployment"] = deployment
         if continuous:
             options["decide_on_timer"] = True
         planners.append(RobotPlanner(name, profile, genome, options))
@@ -141,15 +124,20 @@ def simulator_period(
     planners: Sequence[RobotPlanner], continuous: bool, continuous_hint: str = "continuous mode"
 ) -> float:
     """The simulator's control period (s): the one period the planners decide at (their
-    ``control_period`` option, else their genome's), or with ``continuous`` the shortest.
-    MentorError (naming ``continuous_hint``, the way to run them) when planners of different
-    periods would share a lockstep simulator, and the genome files' errors
-    (:func:`~mentor_core.runtime.planner.genome_control_period`)."""
-    periods = [p.options.get("control_period") or genome_control_period(p.genome, p.profile)
-               for p in planners]  # fmt: skip
+    genome's as deployed), or with ``continuous`` the shortest. MentorError (naming
+    ``continuous_hint``, the way to run them) when planners of different periods would share
+    a lockstep simulator, and the genome files' errors
+    (:func:`~mentor_core.runtime.planner.deployed_genome`)."""
+    periods = [planner_period(p) for p in planners]
     if continuous:
         return min(periods)
     return one_period(periods, f"run them with {continuous_hint}")
+
+
+def planner_period(planner: RobotPlanner) -> float:
+    """The period (s) a planner decides at: its genome's as its deployment runs it."""
+    deployment = load_deployment(planner.options.get("deployment", "none"), planner.profile)[0]
+    return deployed_genome(planner.genome, planner.profile, deployment)[1].profile.control_period
 
 
 def one_period(periods: Iterable[float], way_out: str) -> float:

@@ -8,7 +8,7 @@ scenario and its decisions.
 
 An episode gives each robot a start pose, a goal and a time budget ``T_tot`` (default
 :meth:`RobotProfile.time_budget`, the paper's T_tot,i) and follows
-:func:`mentor_core.sim.episode.run_episodes` robot by robot:
+:func:`mentor_core.controller.episodes.run_episodes` robot by robot:
 
 * start: robots are placed in the order given; a robot whose body at its start overlaps an
   obstacle, a wall or a robot placed before it is *rejected* (it takes no part in the

@@ -1,10 +1,5 @@
-"""Episodes: many robots, one policy call per control period for all of them in a world.
-
-Each robot runs one scenario. Once per control period every still-active robot reads its
-sensors, the policy maps all their network inputs to outputs in one call, the outputs become
-actions, and :class:`mentor_core.sim.engine.BatchEngine` moves every robot along its arc. A robot
-stops when it reaches its goal, collides, or has used its ``ceil(T_tot / control_period)``
-decisions (T_tot from :meth:`RobotProfile.time_budget`, the paper's T_tot,i).
+"""Episodes' outcomes: what :func:`mentor_core.controller.episodes.run_episodes` returns, and
+the bookkeeping of running many robots in several worlds.
 
 Time: a decision takes one control period, except the one that reaches the goal, which takes
 the share of the period spent on the arc up to the arriving sample; ``time_used`` sums these.
@@ -12,36 +7,18 @@ the share of the period spent on the arc up to the arriving sample; ``time_used`
 Experience (paper, "Experience-Gain"): every decision gives the point
 ``V = [U(t), A(t), U(t + 1)]`` of dimension ``2 k + 2``, with ``U`` the k range readings
 clipped to the sensor range and ``A = (dtheta, ds)``.
-
-A planner with a rotation shim or a collision guard (``RobotProfile.rotation_shim``,
-``RobotProfile.collision_guard``; :mod:`~mentor_core.sim.rotation_shim`,
-:mod:`~mentor_core.sim.collision_guard`) has its outputs, then its actions, vetted here
-before the engine moves it.
-
-Context (a planner with ``feedback_action`` or ``memory_units``): each robot carries what its
-network output at its previous decision into its next inputs
-(:func:`mentor_core.sim.observation.next_context`), from
-:func:`~mentor_core.sim.observation.initial_context` at its episode's start. It is not part
-of the experience: G measures behaviour (readings and actions), as in the paper.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from itertools import chain
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.sim import observation
-from mentor_core.sim.collision_guard import CollisionGuard
-from mentor_core.sim.engine import BatchEngine
 from mentor_core.sim.robots import RobotProfile
-from mentor_core.sim.rotation_shim import rotation_shim
-from mentor_core.sim.sensors import Backend
-from mentor_core.sim.turn_gain import turn_gain
 from mentor_core.sim.world import Scenario, World
 
 FloatArray = NDArray[np.float64]
@@ -118,8 +95,9 @@ class EpisodeBatch:
         return self.trajectories[np.arange(len(self.steps)), self.steps, :2]
 
 
-def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
-    """Indices of the scenarios of each distinct world, in order of first appearance."""
+def world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
+    """Indices of the scenarios of each distinct world, in order of first appearance;
+    ValueError for none."""
     if not scenarios:
         raise ValueError("run_episodes needs at least one scenario")
     worlds = [sc.world for sc in scenarios]
@@ -140,7 +118,7 @@ def _world_groups(scenarios: Sequence[Scenario]) -> list[IntArray]:
     return np.split(order, bounds)
 
 
-def _decision_limits(
+def decision_limits(
     starts: FloatArray, goals: FloatArray, profile: RobotProfile,
     time_budgets: ArrayLike | None, max_steps: int | None,
 ) -> tuple[FloatArray, IntArray]:
@@ -160,7 +138,7 @@ def _decision_limits(
     return budget, allowed
 
 
-def _group_experience(
+def group_experience(
     chunks: list[FloatArray], owners: list[IntArray], steps: IntArray, width: int
 ) -> tuple[FloatArray, tuple[FloatArray, ...]]:
     """Split the per-decision experience rows into one array per robot, in decision order:
@@ -196,59 +174,9 @@ except ImportError:  # pragma: no cover - numba is in the lock file; numpy stays
     _scatter_rows_numba = None
 
 
-def run_episodes(
-    scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy, *,
-    time_budgets: ArrayLike | None = None, max_steps: int | None = None,
-    backend: Backend = "auto", input_goals: InputGoals | None = None,
+def merge_batches(
+    parts: Sequence[EpisodeBatch], groups: Sequence[IntArray], n: int
 ) -> EpisodeBatch:
-    """Run one robot per scenario to the end.
-
-    The robots of one world step together in one engine; scenarios in several worlds run as
-    one such batch per world, and since a robot's outputs do not depend on which robots share
-    a policy call, the result is the same as one run per scenario.
-
-    Args:
-        scenarios: start/goal pairs, in one world or several.
-        profile: the robot.
-        policy: ``policy(inputs (m, n_inputs), robots (m,) int) -> outputs (m, n_outputs)``
-            (the profile's: the two actions, then its memory units), called
-            once per control period (and world) for the ``m`` still-active robots (indices
-            into ``scenarios``, ascending).
-        time_budgets: per-scenario T_tot (s) instead of ``profile.time_budget``.
-        max_steps: cap on the decisions of every robot.
-        backend: kernel backend of the engine.
-        input_goals: the goal (x, y) each network sees, called like ``policy`` with the
-            robots' poses (a carrot along a global path); None: its scenario's goal. Reaching
-            is always judged against the scenario's goal.
-    """
-    groups = _world_groups(scenarios)
-    if len(groups) == 1:
-        return _run_world(
-            scenarios, profile, policy, time_budgets, max_steps, backend, input_goals
-        )
-    n = len(scenarios)
-    budgets = (
-        None if time_budgets is None
-        else np.broadcast_to(np.asarray(time_budgets, dtype=np.float64), (n,))
-    )  # fmt: skip
-    parts = []
-    for idx in groups:
-        def world_policy(inputs: FloatArray, robots: IntArray, idx: IntArray = idx) -> ArrayLike:
-            return policy(inputs, idx[robots])
-
-        def world_goals(poses: FloatArray, robots: IntArray, idx: IntArray = idx) -> ArrayLike:
-            assert input_goals is not None
-            return input_goals(poses, idx[robots])
-
-        parts.append(_run_world(
-            [scenarios[i] for i in idx], profile, world_policy,
-            None if budgets is None else budgets[idx], max_steps, backend,
-            None if input_goals is None else world_goals,
-        ))  # fmt: skip
-    return _merge(parts, groups, n)
-
-
-def _merge(parts: Sequence[EpisodeBatch], groups: Sequence[IntArray], n: int) -> EpisodeBatch:
     """One batch of ``n`` robots from per-world batches of the robots ``groups[j]``."""
     fields: dict[str, Any] = {}
     for name in ("reached", "collided", "timed_out", "time_used", "time_budget",
@@ -267,90 +195,3 @@ def _merge(parts: Sequence[EpisodeBatch], groups: Sequence[IntArray], n: int) ->
         for i, rows in zip(idx.tolist(), part.experience, strict=True):
             experience[i] = rows
     return EpisodeBatch(**fields, trajectories=trajectories, experience=tuple(experience))
-
-
-def _aims(input_goals: InputGoals, poses: FloatArray, idx: IntArray) -> FloatArray:
-    """The goals ``(m, 2)`` the networks of robots ``idx`` at ``poses`` see."""
-    aims = np.asarray(input_goals(poses.copy(), idx), dtype=np.float64)
-    if aims.shape != (idx.size, 2):
-        raise ValueError(f"input_goals gave shape {aims.shape}, need {(idx.size, 2)}")
-    return aims
-
-
-def _run_world(
-    scenarios: Sequence[Scenario], profile: RobotProfile, policy: Policy,
-    time_budgets: ArrayLike | None, max_steps: int | None, backend: Backend,
-    input_goals: InputGoals | None = None,
-) -> EpisodeBatch:
-    """:func:`run_episodes` of scenarios that all lie in the first one's world."""
-    world = scenarios[0].world
-    n = len(scenarios)
-    # fromiter over the flat coordinates: half the time of np.array over 8,000 tuples
-    starts = np.fromiter(chain.from_iterable([sc.start for sc in scenarios]), np.float64,
-                         count=3 * n).reshape(n, 3)
-    goals = np.fromiter(chain.from_iterable([sc.goal for sc in scenarios]), np.float64,
-                        count=2 * n).reshape(n, 2)
-    budget, allowed = _decision_limits(starts, goals, profile, time_budgets, max_steps)
-    dt = float(profile.control_period)
-
-    engine = BatchEngine(world, profile, backend=backend)
-    engine.reset(starts, goals)
-    reached = engine.goal_distance() <= profile.goal_radius  # already there: no decision
-    collided = np.zeros(n, dtype=np.bool_)
-    steps = np.zeros(n, dtype=np.int64)
-    time_used = np.zeros(n, dtype=np.float64)
-    active = ~reached & (allowed > 0)
-    ranges = engine.observe()
-    context = observation.initial_context(n, profile)
-    trajectory = [engine.poses.copy()]
-    chunks: list[FloatArray] = []
-    owners: list[IntArray] = []
-    zeros = np.zeros(n, dtype=np.float64)
-    aligned = np.zeros(n, dtype=np.bool_)  # the rotation shim's: turned onto the goal yet
-    guard = CollisionGuard(n, profile, world.size) if profile.collision_guard else None
-
-    while active.any():
-        idx = np.flatnonzero(active)
-        seen = ranges[idx]
-        aims = goals[idx] if input_goals is None else _aims(input_goals, engine.poses[idx], idx)
-        past = context[idx] if profile.n_context else None  # the paper's planner: no context
-        inputs = observation.network_inputs(seen, engine.poses[idx], aims, profile, past)
-        outputs = np.asarray(policy(inputs, idx), dtype=np.float64)
-        outputs = turn_gain(outputs.reshape(idx.size, profile.n_outputs), profile)
-        if profile.rotation_shim is not None:
-            outputs, aligned[idx] = rotation_shim(outputs, inputs, aligned[idx], profile)
-        dth, ds = observation.actions_from_outputs(outputs, profile, seen)
-        if guard is not None:
-            where = engine.poses[idx]
-            guard.observe(idx, where, seen)
-            dth, ds = guard.vet(idx, where, dth, ds, seen)
-        if profile.n_context:
-            context[idx] = observation.next_context(outputs, profile)
-        dtheta_all, ds_all = zeros.copy(), zeros.copy()
-        dtheta_all[idx], ds_all[idx] = dth, ds
-        result = engine.step(dtheta_all, ds_all, active)
-        after = engine.observe(idx)
-        action = np.stack([dth, ds], axis=1)
-        chunks.append(observation.experience_point(seen, action, after, profile))
-        owners.append(idx)
-        ranges[idx] = after
-        steps[idx] += 1
-        time_used[idx] += np.where(result.reached[idx], result.fraction[idx], 1.0) * dt
-        reached |= result.reached
-        collided |= result.collided
-        active &= ~(result.reached | result.collided) & (steps < allowed)
-        trajectory.append(engine.poses.copy())
-
-    rows, experience = _group_experience(chunks, owners, steps, 2 * profile.n_sensors + 2)
-    return EpisodeBatch(
-        reached=reached,
-        collided=collided,
-        timed_out=~(reached | collided),
-        time_used=time_used,
-        time_budget=budget,
-        final_distance=engine.goal_distance(),
-        steps=steps,
-        trajectories=np.stack(trajectory, axis=1),
-        experience=experience,
-        experience_rows=rows,
-    )

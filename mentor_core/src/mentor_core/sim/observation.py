@@ -27,9 +27,8 @@ a full turn, so the UGV's planners zig-zag wherever their 4 m sensors read anyth
 (experiment E061, "Where the UGV's full turns come from"); a proximity leaves what
 is far nearly unseen and what is near salient.
 
-A planner with a view corridor (``RobotProfile.view_margin``, a planner setting; not in the
-paper) reads as nothing seen whatever lies farther than the margin from its way to the goal
-(:mod:`mentor_core.sim.view_corridor`), before either encoding.
+A controller's stage may change the readings before either encoding (a view corridor:
+:mod:`mentor_core.controller.view_corridor`).
 
 ``"egocentric"`` (the shipped training configs)::
 
@@ -77,7 +76,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.sim.kinematics import to_body, wrap_angle
 from mentor_core.sim.robots import RobotProfile
-from mentor_core.sim.view_corridor import corridor_ranges
 
 FloatArray = NDArray[np.float64]
 CLEARANCE_CONE = np.pi / 4  # sensors facing within this of the chord read "ahead", rad
@@ -152,8 +150,7 @@ def network_inputs(
     context: ArrayLike | None = None,
 ) -> FloatArray:
     """Network inputs (n, ``profile.n_inputs``) = ``[range inputs, dX, dY, theta, context]``
-    (module docstring; the range inputs of :func:`range_inputs`, of the readings within the
-    view corridor when the profile has one: :mod:`mentor_core.sim.view_corridor`).
+    (module docstring; the range inputs of :func:`range_inputs`).
 
     Args:
         ranges: (n, k) sensor readings, m, in the profile's sensor order; +inf = nothing seen.
@@ -168,16 +165,8 @@ def network_inputs(
     do not match.
     """
     r = clip_ranges(ranges, profile)
-    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
-    g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
-    if p.shape != (r.shape[0], 3) or g.shape != (r.shape[0], 2):
-        raise ValueError(
-            f"expected poses ({r.shape[0]}, 3) and goals ({r.shape[0]}, 2), "
-            f"got {p.shape} and {g.shape}"
-        )
-    if not (np.isfinite(p).all() and np.isfinite(g).all()):
-        raise ValueError("pose or goal is not finite")
-    u = range_inputs(corridor_ranges(r, p, g, profile), profile)
+    p, g = checked_poses(poses, goals, r.shape[0])
+    u = range_inputs(r, profile)
     out = np.empty((u.shape[0], profile.n_inputs), dtype=np.float64)
     out[:, : profile.n_sensors] = u
     k = profile.n_sensors
@@ -195,6 +184,21 @@ def network_inputs(
                              f"shape {c.shape}")  # fmt: skip
         out[:, k + 3 :] = c
     return out
+
+
+def checked_poses(
+    poses: ArrayLike, goals: ArrayLike, n: int
+) -> tuple[FloatArray, FloatArray]:
+    """Poses ``(n, 3)`` and goals ``(n, 2)`` as float arrays; ValueError for other shapes or
+    a value that is not finite."""
+    p = np.atleast_2d(np.asarray(poses, dtype=np.float64))
+    g = np.atleast_2d(np.asarray(goals, dtype=np.float64))
+    if p.shape != (n, 3) or g.shape != (n, 2):
+        raise ValueError(f"expected poses ({n}, 3) and goals ({n}, 2), got {p.shape} and "
+                         f"{g.shape}")  # fmt: skip
+    if not (np.isfinite(p).all() and np.isfinite(g).all()):
+        raise ValueError("pose or goal is not finite")
+    return p, g
 
 
 def initial_context(n: int, profile: RobotProfile) -> FloatArray:

@@ -28,12 +28,8 @@ def with_planner(
     clearance_margin: object = None,
     feedback_action: object = None,
     memory_units: object = None,
-    rotation_shim: object = None,
     control_period: object = None,
-    collision_guard: object = None,
-    turn_gain: object = None,
     proximity_scale: object = None,
-    view_margin: object = None,
     source: str | Path = "",
 ) -> RobotProfile:
     """``profile`` as a planner sees it: its input encoding, its heading-change limit (rad, in
@@ -41,13 +37,11 @@ def with_planner(
     smallest step (m, in ``[0, step_max]``), its clearance margin (m, >= 0; see
     :func:`mentor_core.sim.observation.clearance_limit`), whether it reads its previous action
     (a bool), its memory units (a whole number in ``[0, MAX_MEMORY_UNITS]``; both see
-    :func:`mentor_core.sim.observation.next_context`) and its rotation shim's threshold (rad,
-    in ``(0, pi]``; :mod:`mentor_core.sim.rotation_shim`), its control period (s, in
-    ``(0, profile.control_period]``), whether a collision guard vets its decisions (a
-    bool; :mod:`mentor_core.sim.collision_guard`), the gain on its turn (in ``(0, 1]``;
-    :mod:`mentor_core.sim.turn_gain`), its proximity scale (m, > 0;
-    :func:`mentor_core.sim.observation.range_inputs`) and its view corridor's margin (m, > 0;
-    :mod:`mentor_core.sim.view_corridor`) replaced where given (None keeps the profile's).
+    :func:`mentor_core.sim.observation.next_context`), its control period (s, in
+    ``(0, profile.control_period]``) and its proximity scale (m, > 0;
+    :func:`mentor_core.sim.observation.range_inputs`) replaced where given (None keeps the
+    profile's). The layers a planner decides through are not the profile's but its stages'
+    (:mod:`mentor_core.controller`).
 
     A planner that steps at most ``step_max`` is rated at ``rated_speed * step_max /
     profile.step_max``: the rated speed keeps its share of the top pace, so the time budget
@@ -111,30 +105,13 @@ def with_planner(
                 key="memory_units", path=where,
             )  # fmt: skip
         changes["memory_units"] = memory_units
-    if rotation_shim is not None:
-        changes["rotation_shim"] = _planner_number(
-            rotation_shim, lambda v: 0.0 < v <= math.pi, "(0, pi] rad", "rotation_shim", where
-        )
     if control_period is not None:
         changes.update(_planner_period(profile, changes, control_period, where))
-    if collision_guard is not None:
-        if not isinstance(collision_guard, bool):
-            raise ConfigError(f"must be true or false, got {collision_guard!r}",
-                              key="collision_guard", path=where)  # fmt: skip
-        changes["collision_guard"] = collision_guard
-    if turn_gain is not None:
-        changes["turn_gain"] = _planner_number(
-            turn_gain, lambda v: 0.0 < v <= 1.0, "(0, 1]", "turn_gain", where
-        )
     if proximity_scale is not None:
         changes["proximity_scale"] = _planner_number(
             proximity_scale, lambda v: 0.0 < v < math.inf, "(0, inf) m", "proximity_scale",
             where,
         )  # fmt: skip
-    if view_margin is not None:
-        changes["view_margin"] = _planner_number(
-            view_margin, lambda v: 0.0 < v < math.inf, "(0, inf) m", "view_margin", where
-        )
     return dataclasses.replace(profile, **changes)
 
 

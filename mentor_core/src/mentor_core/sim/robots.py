@@ -106,23 +106,9 @@ class RobotProfile:
         memory_units: extra network outputs fed back as inputs at the next decision, a
             context memory (0 to :data:`MAX_MEMORY_UNITS`; 0 in the paper). A planner's
             setting.
-        rotation_shim: when set, a robot first turns on the spot onto a new goal until its
-            bearing is within this angle, rad (:mod:`mentor_core.sim.rotation_shim`); None:
-            the network drives from the first decision, as in the paper. A planner's setting.
-        collision_guard: whether a collision guard vets each decision against what the sensors
-            read lately, and backs the robot up when every arc ahead would hit
-            (:mod:`mentor_core.sim.collision_guard`); False in the paper. A deployment option,
-            never trained with.
-        turn_gain: the network's turn output is scaled by this gain about its middle, in
-            ``(0, 1]`` (:mod:`mentor_core.sim.turn_gain`); 1 in the paper. A deployment
-            option, never trained with.
         proximity_scale: when set, the network reads each range as the proximity
             ``exp(-r / proximity_scale)`` (m; :func:`mentor_core.sim.observation.range_inputs`)
             instead of ``r`` in m, as in the paper (None). A planner's setting.
-        view_margin: when set, the network sees only what lies within this distance of the
-            segment to its goal, m; other readings read as nothing seen
-            (:mod:`mentor_core.sim.view_corridor`). None in the paper. A planner's setting:
-            trained with (a training config's ``view_margin``) or added at deployment.
     """
 
     name: str
@@ -148,11 +134,7 @@ class RobotProfile:
     clearance_margin: float | None = None
     feedback_action: bool = False
     memory_units: int = 0
-    rotation_shim: float | None = None
-    collision_guard: bool = False
-    turn_gain: float = 1.0
     proximity_scale: float | None = None
-    view_margin: float | None = None
 
     @property
     def sensor_mounts(self) -> NDArray[np.float64]:

@@ -5,6 +5,6 @@ simulation, the evaluation backends (in-process, process pool, ray) and the chil
 that die with them, the files of a run
 directory, and the test-on-unseen assessment of trained planners.
 
-May import every wing below it (errors, atomic, evolution, sim, objectives, files); never
-runtime, report or cli.
+May import every wing below it (errors, atomic, evolution, sim, objectives, files,
+navigation, controller); never runtime, report or cli.
 """

@@ -14,9 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.stage import Stage
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
-from mentor_core.sim.episode import InputGoals, run_episodes
+from mentor_core.sim.episode import InputGoals
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
 
@@ -92,17 +94,19 @@ def assess(
     time_limit: float = TEST_TIME_LIMIT,
     input_goals: InputGoals | None = None,
     numbers: Sequence[int] | None = None,
+    stages: Sequence[Stage] = (),
 ) -> Assessment:
     """Run ``genome`` once on each scenario with a fixed time limit (s); ``input_goals``
     gives the goal each network sees (a carrot along a global path,
     :func:`mentor_core.navigation.guide.guided_goals`), None: the scenario's goal;
     ``numbers`` are the scenarios' numbers in their source (default 0, 1, ...), as the
-    results report them."""
+    results report them; ``stages``: the controller's stages its decisions pass."""
     check_compatible(genome, profile)
     policy = FeedForwardNetwork.from_genome(genome).episode_policy(len(scenarios))
     budgets = np.full(len(scenarios), float(time_limit))
     batch = run_episodes(
-        list(scenarios), profile, policy, time_budgets=budgets, input_goals=input_goals
+        list(scenarios), profile, policy, time_budgets=budgets, input_goals=input_goals,
+        stages=stages,
     )
     ids = list(range(len(scenarios))) if numbers is None else [int(n) for n in numbers]
     results = tuple(

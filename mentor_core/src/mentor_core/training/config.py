@@ -20,7 +20,6 @@ cycle is a ConfigError.
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Sequence
 from dataclasses import field
@@ -30,6 +29,10 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
+from mentor_core.controller.rotation_shim import RotationShim
+from mentor_core.controller.stage import Stage
+from mentor_core.controller.turn_commitment import TurnCommitment
+from mentor_core.controller.view_corridor import ViewCorridor
 from mentor_core.errors import ConfigError, short_repr
 from mentor_core.evolution.config import EvolutionConfig, Robot
 from mentor_core.evolution.loop import Mode
@@ -50,7 +53,7 @@ from mentor_core.validation import (
     read_yaml_extending,
     to_plain,
     validate,
-    yaml_value,
+    with_settings,
 )
 
 Framework = Literal["single", "dual"]
@@ -116,15 +119,16 @@ class TrainerConfig:
     """The goal the network sees in training: "none", the scenario's goal (the paper's), or
     "waypoint", the direction of the shortest way at the distance still to go, as a global
     plan's carrot shows it (mentor_core.navigation.waypoints; not in the paper): planners
-    trained to follow a plan, for a robot with a map (mentor-bench --scan-map, the planner
+    trained to follow a plan, for a robot with a map (a deployment's scan_map, the planner
     node's global_plan). Training only; see docs/algorithm.md "The goal a network sees in
     training"."""
     guide_share: Annotated[Float, Field(gt=0.0, le=1.0)] = 1.0
     """The share of the training scenarios whose networks are shown the way under guide:
     waypoint (evenly spread over them); the others see their goal."""
     turn_commitment: bool = False
-    """Keep turning to one side while the way ahead is blocked (mentor_core.sim.commitment;
-    not in the paper): experiment E024, applied in training only."""
+    """Keep turning to one side while the way ahead is blocked (the stage turn_commitment,
+    mentor_core.controller.turn_commitment; not in the paper): experiment E024, applied in
+    training only."""
     turn_frame: TurnFrame = "body"
     """What the turn output names: a heading change in the body frame ("body", the paper's) or
     a heading relative to the goal's bearing ("goal", mentor_core.sim.goal_frame; not in the
@@ -150,8 +154,9 @@ class TrainerConfig:
     view_margin: Annotated[Float, Field(gt=0.0)] | None = None
     """When set, the network sees only what lies within this distance of the segment to the
     goal it is shown (the waypoint, in a guided scenario), m; other readings read as nothing
-    seen (mentor_core.sim.view_corridor; null: everything, as in the paper), as it sees on its
-    scan map when deployed with the corridor; also written into the metadata."""
+    seen (the stage view_corridor, mentor_core.controller.view_corridor; null: everything, as
+    in the paper), as it sees on its scan map when deployed with the corridor; also written
+    into the metadata."""
     clearance_margin: Annotated[Float, Field(ge=0.0)] | None = None
     """When set, every step is shortened to the free range read ahead less this margin, m
     (mentor_core.sim.observation.clearance_limit; null: no such limit, as in the paper); also
@@ -168,7 +173,7 @@ class TrainerConfig:
     rotation_shim_deg: Annotated[Float, Field(gt=0.0, le=180.0)] | None = None
     """When set, a robot with a new goal first turns on the spot onto it until the goal's
     bearing is within this many degrees, then its network drives (Nav2's rotation shim;
-    mentor_core.sim.rotation_shim; null: the network drives from the first decision, as in
+    mentor_core.controller.rotation_shim; null: the network drives from the first decision, as in
     the paper); also written into the metadata."""
     control_period: Annotated[Float, Field(gt=0.0)] | None = None
     """When set, the planner decides every this many seconds, at most the robot's period, with
@@ -224,7 +229,7 @@ class TrainerConfig:
         """The planner settings a network trained with this config acts with, as
         ``mentor_core.sim.planner_settings.with_planner``'s keyword arguments (angles in rad; None:
         the robot's own)."""
-        turn, shim = self.heading_change_max_deg, self.rotation_shim_deg
+        turn = self.heading_change_max_deg
         return {
             "input_encoding": self.input_encoding,
             "heading_change_max": None if turn is None else math.radians(turn),
@@ -233,11 +238,23 @@ class TrainerConfig:
             "clearance_margin": self.clearance_margin,
             "feedback_action": self.feedback_action,
             "memory_units": self.memory_units,
-            "rotation_shim": None if shim is None else math.radians(shim),
             "control_period": self.control_period,
             "proximity_scale": self.proximity_scale,
-            "view_margin": self.view_margin,
         }
+
+    def trained_stages(self) -> tuple[Stage, ...]:
+        """The controller's stages a network trained with this config decides through: its
+        view corridor (``view_margin``), turn commitment and rotation shim, in that order
+        (none in the paper); the corridor and the shim are written into the metadata
+        (:func:`mentor_core.controller.deployment.trained_stages` reads them back)."""
+        stages: list[Stage] = []
+        if self.view_margin is not None:
+            stages.append(ViewCorridor(margin=self.view_margin))
+        if self.turn_commitment:
+            stages.append(TurnCommitment())
+        if self.rotation_shim_deg is not None:
+            stages.append(RotationShim(threshold_deg=self.rotation_shim_deg))
+        return tuple(stages)
 
     def to_dict(self) -> dict[str, Any]:
         """A plain dict that :meth:`from_dict` turns back into an equal config."""
@@ -335,33 +352,11 @@ _OWN_OPTIONS = {"robot": "--robot", "framework": "--framework", "seed": "--seed"
 
 
 def with_overrides(data: dict[str, Any], overrides: Sequence[str]) -> dict[str, Any]:
-    """A copy of ``data`` (a config's mapping) with each ``KEY=VALUE`` of ``overrides`` set in
-    turn: ``KEY`` a dotted key path (``n_scenarios``, ``evolution.mutation.recurrent_rate``),
-    ``VALUE`` read as YAML 1.2 (``40``, ``0.05``, ``[1, 2]``, ``null``); mappings on the way
-    are created where missing (an unknown key is then the validation's fault). ConfigError
-    naming ``--set`` for an override without ``=`` or a key, a value that is not YAML, or a
-    key that a command line sets with an option of its own (``robot``, ``framework``,
-    ``seed``)."""
-    out = copy.deepcopy(data)
-    for item in overrides:
-        key, eq, text = item.partition("=")
-        path = key.strip().split(".")
-        if not eq or not all(path):
-            raise ConfigError(f"expected KEY=VALUE (a dotted key path), got {item!r}", None,
-                              "--set")  # fmt: skip
-        if path[0] in _OWN_OPTIONS:
-            raise ConfigError(f"set with {_OWN_OPTIONS[path[0]]}, not --set", key, "--set")
-        try:
-            value = yaml_value(text)
-        except ValueError as err:
-            raise ConfigError(f"{text!r} is not a YAML value ({err})", key, "--set") from None
-        node = out
-        for name in path[:-1]:
-            if not isinstance(node.get(name), dict):
-                node[name] = {}
-            node = node[name]
-        node[path[-1]] = value
-    return out
+    """A copy of ``data`` (a config's mapping) with each ``KEY=VALUE`` of ``overrides`` set
+    (:func:`~mentor_core.yaml_reading.with_settings`, naming ``--set``); ``robot``,
+    ``framework`` and ``seed`` are refused: a command line sets them with options of their
+    own."""
+    return with_settings(data, overrides, "--set", _OWN_OPTIONS)
 
 
 def config_schema() -> dict[str, Any]:

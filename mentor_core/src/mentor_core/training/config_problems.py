@@ -59,7 +59,7 @@ def make_problem(
             raise ConfigError(str(err), key="families", path=source) from None
     return NavigationProblem(
         prof, scenarios, time_budget=config.time_budget, goal_distance=config.goal_distance,
-        turn_commitment=config.turn_commitment, turn_frame=config.turn_frame,
+        stages=config.trained_stages(), turn_frame=config.turn_frame,
         success_credit=config.success_credit, guide=config.guide,
         guide_share=config.guide_share,
     )

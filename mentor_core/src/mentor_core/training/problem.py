@@ -33,6 +33,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from mentor_core.controller.episodes import run_episodes
+from mentor_core.controller.stage import Stage
 from mentor_core.evolution.batch_network import BatchNetwork
 from mentor_core.evolution.genome import Genome
 from mentor_core.navigation.goal_distance import GoalDistance
@@ -45,8 +47,7 @@ from mentor_core.objectives.performance import (
     path_credit,
     scenario_performance,
 )
-from mentor_core.sim.commitment import TurnCommitment
-from mentor_core.sim.episode import EpisodeBatch, run_episodes
+from mentor_core.sim.episode import EpisodeBatch
 from mentor_core.sim.goal_frame import goal_frame_turns
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
@@ -94,8 +95,9 @@ class NavigationProblem:
     :class:`~mentor_core.navigation.goal_distance.GoalDistance`, for a disc a little inside
     the body; where the final point is outside its free space, the straight distance). A
     robot stopped at a wall with its goal behind it is then as far from the goal as the way
-    round, not as the wall's thickness. ``turn_commitment``: the networks' turns pass
-    through :class:`~mentor_core.sim.commitment.TurnCommitment` (not in the paper).
+    round, not as the wall's thickness. ``stages``: the controller's stages the networks
+    decide through in training (:mod:`mentor_core.controller`; the config's
+    ``TrainerConfig.trained_stages``; none in the paper).
     ``turn_frame="goal"``: the turn output names a heading relative to the goal
     (:func:`~mentor_core.sim.goal_frame.goal_frame_turns`; not in the paper).
     ``success_credit="path"``: a success's credit in F_i is the shortest path's length (the
@@ -116,7 +118,7 @@ class NavigationProblem:
         with_experience: bool = True,
         time_budget: float | None = None,
         goal_distance: GoalDistanceKind = "euclidean",
-        turn_commitment: bool = False,
+        stages: Sequence[Stage] = (),
         turn_frame: TurnFrame = "body",
         success_credit: SuccessCredit = "time",
         guide: Guide = "none",
@@ -142,7 +144,7 @@ class NavigationProblem:
         # one T_tot for every scenario (s); None: the paper's per-scenario budget
         self.time_budget = time_budget
         self.goal_distance = goal_distance
-        self.turn_commitment = turn_commitment
+        self.stages = tuple(stages)
         self.turn_frame = turn_frame
         self.success_credit = success_credit
         self.guide = guide
@@ -194,7 +196,6 @@ class NavigationProblem:
         n_scen = len(self.scenarios)
         network = BatchNetwork.from_genomes(genomes)
         n = n_scen * len(genomes)
-        rule = TurnCommitment(self.profile, n) if self.turn_commitment else None
         goal_frame = self.turn_frame == "goal"
         memory = network.new_memory(n)  # recurrent genomes' previous values, per robot
 
@@ -202,11 +203,11 @@ class NavigationProblem:
             out = network.activate(inputs, robots // n_scen, memory=memory, slots=robots)
             if goal_frame:
                 out = goal_frame_turns(out, inputs, self.profile)
-            return out if rule is None else rule(out, inputs, robots)
+            return out
 
         return run_episodes(
             list(self.scenarios) * len(genomes), self.profile, policy,
-            time_budgets=self.time_budget, input_goals=self._input_goals,
+            time_budgets=self.time_budget, input_goals=self._input_goals, stages=self.stages,
         )  # fmt: skip
 
     def evaluate(

@@ -353,13 +353,13 @@ def _write_final_files(
             "feedback_action": profile.feedback_action,
             "memory_units": profile.memory_units,
             # only when set, so that a genome without it is written as before
-            **({} if profile.rotation_shim is None
-               else {"rotation_shim": profile.rotation_shim}),
+            **({} if config.rotation_shim_deg is None
+               else {"rotation_shim": math.radians(config.rotation_shim_deg)}),
             **({} if config.control_period is None
                else {"control_period": profile.control_period}),
             **({} if profile.proximity_scale is None
                else {"proximity_scale": profile.proximity_scale}),
-            **({} if profile.view_margin is None else {"view_margin": profile.view_margin}),
+            **({} if config.view_margin is None else {"view_margin": config.view_margin}),
             "sensors": sensor_record(profile),
             "framework": config.framework,
             "seed": run.seed,

@@ -1,6 +1,7 @@
 """A view corridor: the network sees only what lies near its way to the goal.
 
-Not in the paper; off by default (the planner setting ``RobotProfile.view_margin``, None). A
+Not in the paper; off by default (the stage ``view_corridor`` of a deployment, or trained with:
+the trainer config's ``view_margin``, the genome's metadata's). A
 reading whose hit point lies farther than the margin ``m`` from the segment from the robot to
 its goal is shown to the network as nothing seen (the sensor's range)::
 
@@ -15,7 +16,8 @@ network sees is the carrot, and the plan already keeps clear of what the robot h
 network that sees every reading swerves from every wall it reads. With the corridor it
 reacts only to what stands in the way of the carrot (in training: of the goal or, in a
 guided scenario, the waypoint it is shown). The collision guard
-(:mod:`mentor_core.sim.collision_guard`) and the clearance limit still read every reading.
+(:mod:`~mentor_core.controller.collision_guard`) and the clearance limit still read every
+reading.
 
 Chosen on the benchmark's validation split for the shipped Swarm-Robot planners (0.1 m, in
 training and at deployment; experiment E064, "A view corridor" and "Trained with
@@ -25,29 +27,29 @@ walls they keep to.
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from pathlib import Path
+from typing import Annotated, Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import Field, Strict
 
+from mentor_core.controller.stage import Stage, StageRun
 from mentor_core.sim.kinematics import to_body
-from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import RobotProfile
+from mentor_core.validation import config_dataclass
 
 FloatArray = NDArray[np.float64]
 
 
 def corridor_ranges(
-    ranges: FloatArray, poses: FloatArray, goals: FloatArray, profile: RobotProfile
-) -> FloatArray:
-    """The clipped readings (n, k) (m) with those outside the view corridor of
-    ``profile.view_margin`` set to the sensor range (module docstring); ``ranges`` themselves
-    when the profile has no corridor. ``poses`` (n, 3) and ``goals`` (n, 2) in the map frame.
-    """
-    margin = profile.view_margin
-    if margin is None:
+    ranges: FloatArray, poses: FloatArray, goals: FloatArray, profile: RobotProfile,
+    margin: float,
+) -> FloatArray:  # fmt: skip
+    """The clipped readings (n, k) (m) with those outside the view corridor of ``margin`` m
+    set to the sensor range (module docstring); ``poses`` (n, 3) and ``goals`` (n, 2) in the
+    map frame. An infinite margin keeps every reading."""
+    if margin == math.inf:
         return ranges
     p = np.asarray(poses, dtype=np.float64)
     goal = to_body(p[:, 2], np.asarray(goals, dtype=np.float64) - p[:, :2])  # (n, 2)
@@ -65,14 +67,28 @@ def corridor_ranges(
     return np.where(outside, profile.sensor_range, ranges)
 
 
-def set_view_margin(
-    profile: RobotProfile, margin: float | None, source: str | Path = ""
-) -> RobotProfile:
-    """``profile`` with a view corridor of ``margin`` m: None keeps the profile's own, ``inf``
-    (everything lies within it) removes any, a positive number replaces it; ConfigError naming
-    ``source`` for any other (:func:`~mentor_core.sim.planner_settings.with_planner`)."""
-    if margin is None:
-        return profile
-    if margin == math.inf:
-        return dataclasses.replace(profile, view_margin=None)
-    return with_planner(profile, view_margin=margin, source=source)
+@config_dataclass
+class ViewCorridor(Stage):
+    """The stage ``view_corridor`` (module docstring)."""
+
+    name = "view_corridor"
+    margin: Annotated[float, Strict(), Field(gt=0.0, allow_inf_nan=True)]
+    """m: the network sees what lies within this distance of its way (.inf: everything)."""
+
+    def start(self, n: int, profile: RobotProfile, arena: float | None) -> StageRun:
+        return _CorridorRun(profile, self.margin)
+
+    def record(self) -> dict[str, Any]:
+        return {} if self.margin == math.inf else {"view_margin": self.margin}
+
+
+class _CorridorRun(StageRun):
+    def __init__(self, profile: RobotProfile, margin: float) -> None:
+        self.profile = profile
+        self.margin = margin
+
+    def readings(
+        self, robots: NDArray[np.int64], readings: FloatArray, poses: FloatArray,
+        goals: FloatArray,
+    ) -> FloatArray:  # fmt: skip
+        return corridor_ranges(readings, poses, goals, self.profile, self.margin)

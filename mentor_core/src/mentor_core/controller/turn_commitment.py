@@ -1,6 +1,7 @@
 """A Bug-like turn commitment: keep turning to one side while the way ahead is blocked.
 
-Not in the paper; off by default (the trainer config's ``turn_commitment``). The UGV planners'
+Not in the paper; off by default (the trainer config's ``turn_commitment``, which trains
+with the stage ``turn_commitment``). The UGV planners'
 collisions end in alternating +-45 deg turns at the smallest step while a wall blocks the way
 ahead (experiment E023, "Better planners"): facing a wall with the goal behind it, a
 turn either way puts the goal on the other side. While the clearance limit holds the chosen
@@ -14,14 +15,26 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from mentor_core.controller.stage import Stage, StageRun
 from mentor_core.sim.observation import clearance_limit, ranges_from_inputs
 from mentor_core.sim.robots import RobotProfile
+from mentor_core.validation import config_dataclass
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 
-class TurnCommitment:
+@config_dataclass
+class TurnCommitment(Stage):
+    """The stage ``turn_commitment`` (module docstring); no settings."""
+
+    name = "turn_commitment"
+
+    def start(self, n: int, profile: RobotProfile, arena: float | None) -> StageRun:
+        return _CommitmentRun(profile, n)
+
+
+class _CommitmentRun(StageRun):
     """The rule for ``n_robots`` robots, each remembering its previous turn output (0.5, no
     turn, before its first decision)."""
 
@@ -29,7 +42,10 @@ class TurnCommitment:
         self.profile = profile
         self.previous: FloatArray = np.full(n_robots, 0.5)
 
-    def __call__(self, outputs: FloatArray, inputs: FloatArray, robots: IntArray) -> FloatArray:
+    def reset(self, robots: IntArray | None = None) -> None:
+        self.previous[slice(None) if robots is None else robots] = 0.5
+
+    def outputs(self, robots: IntArray, outputs: FloatArray, inputs: FloatArray) -> FloatArray:
         """The network ``outputs`` (n, >= 2) of ``robots`` on ``inputs`` (n, >= k sensors),
         turns committed (a copy)."""
         p = self.profile

@@ -1,8 +1,8 @@
 """A collision guard behind the planner: no arc into what the sensors have just read, and a
 step back when every arc ahead would hit.
 
-Not in the paper; off by default (the planner setting ``RobotProfile.collision_guard``,
-``mentor-bench --collision-guard``: a deployment option, never trained with). Nav2 checks
+Not in the paper; off by default (the stage ``collision_guard`` of a deployment, never trained
+with). Nav2 checks
 every trajectory a controller proposes against what its sensors read (DWB's critics on the
 costmap, the collision monitor on the raw scans), and its recovery behaviours back the robot
 up when it is stuck. Here, at each decision:
@@ -36,15 +36,19 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from typing import Annotated, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from pydantic import Field
 
+from mentor_core.controller.stage import Stage, StageRun
 from mentor_core.sim.collision import default_sample_step, swept_collision
 from mentor_core.sim.observation import clearance_limit
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.sensors import beam_frames
 from mentor_core.sim.world import World
+from mentor_core.validation import Int, config_dataclass
 
 FloatArray = NDArray[np.float64]
 
@@ -77,21 +81,24 @@ class CollisionGuard:
     arena (None: the poses may lie anywhere, as odometry's do) (module docstring):
     :meth:`observe` the readings, then :meth:`vet` the actions, every decision."""
 
-    def __init__(self, n: int, profile: RobotProfile, size: float | None = None) -> None:
+    def __init__(
+        self, n: int, profile: RobotProfile, size: float | None = None, memory: int = MEMORY
+    ) -> None:
         self.profile = profile
         self.size = None if size is None else float(size)
         self.half = default_sample_step(profile) / 3.0
         # without an arena, the half-side of the box world about the robot: a body's arc
         # (at most step_max) or step back (2/3 of its length) stays well inside it
         self.reach = profile.step_max + profile.length + profile.width + 2.0 * self.half
-        self.recent: list[deque[FloatArray]] = [deque(maxlen=MEMORY) for _ in range(n)]
+        self.recent: list[deque[FloatArray]] = [deque(maxlen=memory) for _ in range(n)]
         self.changed = 0  # arcs replaced by a free one
         self.backed = 0  # steps back
 
-    def reset(self) -> None:
-        """Forget every reading (a new episode)."""
-        for seen in self.recent:
-            seen.clear()
+    def reset(self, robots: ArrayLike | None = None) -> None:
+        """Forget every reading of robots ``robots`` (None: all): a new episode."""
+        chosen = range(len(self.recent)) if robots is None else np.asarray(robots).tolist()
+        for i in chosen:
+            self.recent[i].clear()
 
     def observe(self, robots: ArrayLike, poses: ArrayLike, readings: ArrayLike) -> None:
         """Remember what robots ``robots`` ``(m,)`` at ``poses`` ``(m, 3)`` read."""
@@ -198,3 +205,34 @@ class CollisionGuard:
         poses = np.repeat(pose[None], backs.size, axis=0)
         free = np.flatnonzero(swept_collision(poses, 0.0, backs, self.profile, world) < 0)
         return float(backs[free[0]]) if free.size else None
+
+
+@config_dataclass
+class CollisionGuardStage(Stage):
+    """The stage ``collision_guard`` (module docstring)."""
+
+    name = "collision_guard"
+    memory: Annotated[Int, Field(ge=1, le=100)] = MEMORY
+    """Decisions of readings remembered."""
+
+    def start(self, n: int, profile: RobotProfile, arena: float | None) -> StageRun:
+        return _GuardRun(CollisionGuard(n, profile, arena, self.memory))
+
+    def record(self) -> dict[str, Any]:
+        return {"collision_guard": True} if self.memory == MEMORY else {
+            "collision_guard": True, "guard_memory": self.memory}
+
+
+class _GuardRun(StageRun):
+    def __init__(self, guard: CollisionGuard) -> None:
+        self.guard = guard
+
+    def reset(self, robots: NDArray[np.int64] | None = None) -> None:
+        self.guard.reset(robots)
+
+    def actions(
+        self, robots: NDArray[np.int64], poses: FloatArray, dtheta: FloatArray, ds: FloatArray,
+        readings: FloatArray,
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+        self.guard.observe(robots, poses, readings)
+        return self.guard.vet(robots, poses, dtheta, ds, readings)
