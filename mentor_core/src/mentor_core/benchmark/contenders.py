@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from mentor_core.benchmark.bug import bug_policy
 from mentor_core.benchmark.oracle import oracle_policy
+from mentor_core.benchmark.pursuit import pursuit_policy
 from mentor_core.benchmark.reactive import reactive_policy
 from mentor_core.controller.collision_guard import CollisionGuardStage
 from mentor_core.controller.deployment import Deployment
@@ -38,13 +39,15 @@ from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.world import Scenario
 from mentor_core.training.assessment import check_compatible
 
-Kind = Literal["evolved", "baseline", "oracle"]
+Kind = Literal["evolved", "baseline", "oracle", "pursuit"]
 PolicyMaker = Callable[[Sequence[Scenario], RobotProfile], Policy]
 GoalsMaker = Callable[[Sequence[Scenario], RobotProfile], InputGoals]
 #: prefix of the name of a baseline on its scan map (the ``-s<seed>`` suffix stays last)
 MAPPED = "mapped-"
 #: prefix of the name of a baseline behind a collision guard
 GUARDED = "guard-"
+#: prefix of the name of a pure pursuit in an evolved planner's place
+PURSUIT = "pursuit-"
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
@@ -93,6 +96,14 @@ def behind_collision_guard(contender: Contender, guard: CollisionGuardStage) -> 
     named ``guard-<name>``."""
     return dataclasses.replace(contender, name=GUARDED + contender.name,
                                stages=(*contender.stages, guard))  # fmt: skip
+
+
+def pursuit_of(contender: Contender) -> Contender:
+    """``contender`` (an evolved planner, as deployed) with a pure pursuit of the goal its
+    network is shown in the network's place (:mod:`mentor_core.benchmark.pursuit`): the same
+    profile, stages and plan, named ``pursuit-<name>``, of kind ``pursuit``."""
+    return dataclasses.replace(contender, name=PURSUIT + contender.name, kind="pursuit",
+                               make_policy=pursuit_policy, source="")  # fmt: skip
 
 
 #: the hand-written planners: name -> (kind, policy maker)

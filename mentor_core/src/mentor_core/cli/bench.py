@@ -38,8 +38,9 @@ from mentor_core.benchmark.contenders import (
     evolved,
     hand_written,
     on_scan_map,
+    pursuit_of,
 )
-from mentor_core.benchmark.document import bench_document, load_bench
+from mentor_core.benchmark.document import bench_document, load_bench, settings
 from mentor_core.benchmark.parallel import run_parallel
 from mentor_core.benchmark.runner import LIMITS, ContenderResult, run_contender
 from mentor_core.benchmark.suite import (
@@ -86,6 +87,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "reference, and the shipped ones too where they differ from it")
     p.add_argument("--no-oracle", action="store_true", help="leave the oracle out")
     add_deployment_arguments(p, "each genome")
+    p.add_argument("--pursuit", action="store_true",
+                   help="also run a pure pursuit of the goal the networks are shown in their "
+                        "place, under the same deployment, as pursuit-<label> (no learning: "
+                        "what the network adds); one per distinct planner setting")
     p.add_argument("--label", action="append", help="a label per genome (default: its path)")
     p.add_argument("--out", type=Path,
                    help="write bench.json, bench.md and figures into this new or empty folder")
@@ -139,10 +144,24 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     deployment = deployment_of(args, robot.name)[0]
     genomes = [evolved(path, robot, label, deployment)
                for label, path in zip(labels, args.genomes, strict=True)]  # fmt: skip
-    chosen = genomes + _variants(baselines, robot, deployment)
+    chosen = genomes + (_pursuits(genomes) if args.pursuit else [])
+    chosen += _variants(baselines, robot, deployment)
     chosen = chosen if args.no_oracle else [*chosen, hand_written("oracle", reference)]
     if not chosen:
         raise MentorError("nothing to run: give a genome, a baseline or leave the oracle in")
+    return chosen
+
+
+def _pursuits(genomes: list[Contender]) -> list[Contender]:
+    """A pure pursuit in the place of each genome whose profile, stages and plan differ from
+    an earlier one's (seeds of one config share them: their pursuits would be the same)."""
+    seen: set[str] = set()
+    chosen = []
+    for c in genomes:
+        key = repr((settings(c.profile, c.stages), c.guide))
+        if key not in seen:
+            seen.add(key)
+            chosen.append(pursuit_of(c))
     return chosen
 
 

@@ -1,5 +1,8 @@
-"""A planner's settings on a robot profile: what a genome was trained with (its metadata) and
-what it is deployed with, each checked against the robot's own limits.
+"""A planner's settings on a robot profile: how a genome's network reads and acts (its input
+encoding, action limits, clearance margin, context, control period; from its training config
+and its metadata), each checked against the robot's own limits. The layers it is deployed
+behind are not settings of the profile but stages of its deployment
+(:mod:`mentor_core.controller`).
 
 :func:`with_planner` returns the profile with the settings changed (``dataclasses.replace``),
 or one ConfigError line naming the setting, the allowed range and the source (the genome file
