@@ -93,7 +93,7 @@ def test_a_deployment_runs_its_genome_at_a_share_of_the_trained_period() -> None
     assert shipped.guide is not None and trained.guide is None
 
 
-def test_a_genomes_trained_stages_run_first_unless_the_deployment_names_them() -> None:
+def test_a_genomes_trained_stages_run_unless_the_deployment_names_them() -> None:
     metadata = {"view_margin": 0.2, "rotation_shim": np.radians(30.0)}
     trained = trained_stages(metadata)
     assert trained[0] == ViewCorridor(margin=0.2)
@@ -103,8 +103,20 @@ def test_a_genomes_trained_stages_run_first_unless_the_deployment_names_them() -
     deployment = load_deployment("none", "swarm", ["stages.turn_gain.gain=0.5",
                                                    "stages.view_corridor.margin=0.1"])[0]
     stages = deploy(profile, trained, deployment).stages
-    assert [s.name for s in stages] == ["rotation_shim", "turn_gain", "view_corridor"]
-    assert stages[2] == ViewCorridor(margin=0.1)
+    # the built-in order: the gain before the trained shim, which keeps its full turn
+    assert [s.name for s in stages] == ["view_corridor", "turn_gain", "rotation_shim"]
+    assert stages[0] == ViewCorridor(margin=0.1)
+    dropped = load_deployment("none", "swarm", ["stages.view_corridor=null"])[0]
+    assert [s.name for s in deploy(profile, trained, dropped).stages] == ["rotation_shim"]
+    with pytest.raises(ConfigError, match=r"rotation_shim: must be a number in \(0, pi\] rad"):
+        trained_stages({"rotation_shim": 10.0}, "g.json")
+
+
+def test_built_in_stages_run_in_one_order_whatever_order_they_are_given() -> None:
+    deployment = load_deployment("shipped", "ugv", ["stages.turn_gain.gain=0.5"])[0]
+    assert list(deployment.stages)[-1] == "turn_gain"  # --set appends it
+    assert [s.name for s in deployment.build()] == [
+        "turn_gain", "rotation_shim", "collision_guard"]
 
 
 @pytest.mark.parametrize(
@@ -223,3 +235,44 @@ def test_bench_json_lists_the_stages_settings(tmp_path: Path) -> None:
     settings = json.loads((out / "bench.json").read_text())["contenders"][0]["settings"]
     assert settings["turn_gain"] == 0.5 and settings["collision_guard"] is True
     assert settings["view_margin"] == 0.1 and settings["control_period"] == 0.5
+
+
+@pytest.mark.parametrize(
+    ("module_text", "fault"),
+    [
+        ("raise RuntimeError('broken plugin')", "cannot load 'bad_layer:Layer': RuntimeError"),
+        ("from mentor_core import Stage\nclass Layer(Stage):\n    name = 'layer'\n",
+         "is not a config dataclass"),
+    ],
+)
+def test_a_plugin_that_cannot_serve_is_one_line(
+    module_text: str, fault: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "bad_layer.py").write_text(module_text, encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.raises(ConfigError) as err:
+        load_deployment("none", "ugv", ['stages.odd.plugin="bad_layer:Layer"'])
+    assert fault in str(err.value) and "stages.odd.plugin" in str(err.value)
+
+
+def test_mentor_eval_refuses_set_with_two_deployments_and_a_recording_of_two_periods(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from mentor_core.cli.evaluate import main as eval_main
+
+    base = [str(UGV_GENOME), "--bag", "bags/unseen/ugv", "--deployment", "none",
+            "--deployment", "shipped"]  # fmt: skip
+    assert eval_main([*base, "--set", "stages.turn_gain.gain=0.5"]) == 2
+    assert "give one --deployment with --set" in capsys.readouterr().err
+    out = tmp_path / "eval.json"
+    assert eval_main([*base, "--record", str(tmp_path / "bag"), "--out", str(out)]) == 2
+    err = capsys.readouterr()
+    assert "different periods (0.25, 0.5 s)" in err.err
+    assert "success" not in err.out and not out.exists()  # refused before any run
+
+
+def test_mentor_bench_pursuit_needs_a_genome(capsys: pytest.CaptureFixture[str]) -> None:
+    from mentor_core.cli.bench import main as bench_main
+
+    assert bench_main(["--robot", "ugv", "--pursuit"]) == 2
+    assert "--pursuit takes the place of a genome's network" in capsys.readouterr().err

@@ -299,7 +299,8 @@ def attach(
     values = {p.name: p.value for p in declared}
     if values["global_plan"] and scan_guide is not None:
         raise PlanSetupError("global_plan and a deployment with a scan map: choose one plan "
-                             "to follow (--set scan_map=null in deployment_set drops it)")
+                             "to follow (-p \"deployment_set:=['scan_map=null']\" drops the "
+                             "scan map)")
     if not (values["global_plan"] or scan_guide is not None) or planner is None:
         return None
     return GlobalPlan(node, planner, frames, values, on_ready, scan_guide)

@@ -18,6 +18,7 @@ from mentor_core import (
     MAP_FRAME,
     Deployed,
     Deployment,
+    Genome,
     LidarMount,
     MentorError,
     RobotProfile,
@@ -45,7 +46,8 @@ class PlannerParameters:
     genome: str
     profile: RobotProfile
     deployment: Deployment
-    #: the genome as deployed (None without a genome)
+    #: the genome (None without one) and how it runs as its deployment
+    loaded: Genome | None
     deployed: Deployed | None
     control_period: float
     stale_timeout: float
@@ -153,7 +155,10 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
     deployment = load_deployment(str(values["deployment"]), profile.name, settings,
                                  "deployment_set")[0]
     genome = str(values["genome"])
-    deployed = deployed_genome(genome, profile.name, deployment)[1] if genome else None
+    loaded: Genome | None = None
+    deployed: Deployed | None = None
+    if genome:
+        loaded, deployed = deployed_genome(genome, profile.name, deployment)
     period = profile.control_period if deployed is None else deployed.profile.control_period
     stale = float(values["stale_timeout"]) or STALE_PERIODS * period
     if stale <= period:
@@ -170,6 +175,7 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
         genome=genome,
         profile=profile,
         deployment=deployment,
+        loaded=loaded,
         deployed=deployed,
         control_period=period,
         stale_timeout=stale,

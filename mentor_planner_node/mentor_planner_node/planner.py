@@ -115,9 +115,11 @@ class PlannerNode(Node):
         self.profile = p.profile
         self.control_period = p.control_period
         self.goal_radius = p.goal_radius
+        # the genome and its deployment as the parameters' check loaded them
         self.planner = (
-            GenomePlanner.load(p.genome, self.profile.name, p.deployment) if p.genome else None
-        )
+            None if p.loaded is None or p.deployed is None
+            else GenomePlanner(p.loaded, p.deployed.profile, p.genome, stages=p.deployed.stages)
+        )  # fmt: skip
         self.gate = DecisionGate(p.stale_timeout, p.sync_tolerance)
         self.frames = PlannerFrames(p.map_frame, p.map_to_odom, p.lidar_mount, self._tf())
         self.arena: Bounds | None = None

@@ -69,7 +69,6 @@ def __dir__() -> list[str]:
 # The public API, by wing: every name a user or a node package imports from ``mentor_core``.
 # Type checkers read these imports; at run time each is loaded on first use (``__getattr__``).
 if TYPE_CHECKING:
-    # foundation
     # controller
     from mentor_core.controller.deployment import Deployed as Deployed
     from mentor_core.controller.deployment import Deployment as Deployment
@@ -78,6 +77,8 @@ if TYPE_CHECKING:
     from mentor_core.controller.pipeline import DecisionChain as DecisionChain
     from mentor_core.controller.stage import Stage as Stage
     from mentor_core.controller.stage import StageRun as StageRun
+
+    # foundation
     from mentor_core.errors import (
         ConfigError as ConfigError,
     )

@@ -9,9 +9,10 @@ of its deployment's plan on the scan map) from the network's inputs and drives a
 ``beta`` the goal's bearing (:func:`~mentor_core.controller.rotation_shim.goal_bearing`), so
 that :func:`~mentor_core.sim.observation.actions_from_outputs` turns onto the goal by at most
 ``h`` and steps its longest step (held to the clearance rule) once the goal lies within a
-turn, the smallest step while it does not: Nav2's regulated pure pursuit in the planner's
-own action space, with no learning and no reading of obstacles (the deployment's stages, its
-guard and its plan, still act). Its memory outputs are 0.
+turn, the smallest step while it does not: a pure pursuit of the carrot, as Nav2's pure
+pursuit follows a plan, in the planner's own action space, with no learning and no reading
+of obstacles but the clearance rule (the deployment's stages, its guard and its plan, still
+act). Its memory outputs are 0.
 """
 
 from __future__ import annotations

@@ -13,6 +13,7 @@ import sys
 from typing import NoReturn
 
 from mentor_core.controller.deployment import Deployment, load_deployment
+from mentor_core.errors import ConfigError
 
 
 class Parser(argparse.ArgumentParser):
@@ -80,9 +81,13 @@ def deployment_names(args: argparse.Namespace) -> list[str]:
 
 def deployment_of(args: argparse.Namespace, robot: str) -> list[Deployment]:
     """The deployments ``--deployment`` and ``--set`` name for robot ``robot``, in order;
-    ConfigError naming the file or ``--set`` and the key."""
-    return [load_deployment(name, robot, args.deployment_settings)[0]
-            for name in deployment_names(args)]  # fmt: skip
+    ConfigError naming the file or ``--set`` and the key, and for ``--set`` with more than
+    one deployment (which one it changes would not show in the runs' labels)."""
+    names = deployment_names(args)
+    if len(names) > 1 and args.deployment_settings:
+        raise ConfigError("give one --deployment with --set (write a deployment file for "
+                          "each other one)", path="--set")  # fmt: skip
+    return [load_deployment(name, robot, args.deployment_settings)[0] for name in names]
 
 
 def _whole(text: str, least: int, expected: str) -> int:

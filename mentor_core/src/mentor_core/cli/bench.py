@@ -141,6 +141,8 @@ def _contenders(args: argparse.Namespace, robot: RobotProfile) -> list[Contender
     baselines = [hand_written(n, limits, n + suffix)
                  for suffix, limits in _baseline_limits(args.baseline_limits, robot, reference)
                  for n in names]  # fmt: skip
+    if args.pursuit and not args.genomes:
+        raise MentorError("--pursuit takes the place of a genome's network: give a genome")
     deployment = deployment_of(args, robot.name)[0]
     genomes = [evolved(path, robot, label, deployment)
                for label, path in zip(labels, args.genomes, strict=True)]  # fmt: skip

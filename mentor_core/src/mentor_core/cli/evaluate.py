@@ -334,11 +334,13 @@ def main(argv: list[str] | None = None) -> int:
         planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner] = []
         recorded: list[RobotProfile] = []  # the profile each recorded planner decides with
         modes = [""] + ["+global-plan"] * args.global_plan
-        runs_of = [(label, path, name, deployment)
+        runs_of = [(label, path, name, *deployed_genome(path, profile.name, deployment))
                    for label, path in zip(labels, args.genomes, strict=True)
                    for name, deployment in deployments]  # fmt: skip
-        for label, path, name, deployment in runs_of:
-            genome, deployed = deployed_genome(path, profile.name, deployment)
+        if args.record is not None:  # one recording steps at one period: known before any run
+            one_period([r[4].profile.control_period for r in runs_of],
+                       "--record them one at a time")  # fmt: skip
+        for label, path, name, genome, deployed in runs_of:
             planner = deployed.profile
             goals = [sc.goal for sc in chosen]
             if len(deployments) > 1:

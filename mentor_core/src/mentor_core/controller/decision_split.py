@@ -9,9 +9,10 @@ as many decisions (:func:`~mentor_core.sim.planner_settings.with_planner`). The 
 world ``k`` times as often; one that turns its full limit at nearly every decision, as the
 evolved planners do, weaves ``k`` times less wide about its way.
 
-Chosen on the benchmark's validation split for the shipped UGV planners (half their trained
-period, 0.25 s; experiment E079, "Deciding twice as often at deployment"). Training
-at the finer period did not do as well ("The UGV trained to decide four times a second").
+A deployment's ``decisions_per_period`` (:mod:`~mentor_core.controller.deployment`). Chosen
+on the benchmark's validation split for the shipped UGV planners (half their trained period,
+0.25 s; experiment E079, "Deciding twice as often at deployment") and the Swarm-Robot's (0.5 s;
+E081). Training at the finer period did not do as well for the UGV (E069).
 """
 
 from __future__ import annotations

@@ -7,10 +7,11 @@ A deployment (Nav2's parameter file is the model) says three things:
 * ``scan_map``: the goal the network sees is the carrot of a plan on a map of the robot's own
   readings, unknown space free (:mod:`mentor_core.navigation.scan_map`; Nav2's planner
   server), with the plan's settings; absent or null: the goal itself;
-* ``stages``: the controller's layers in order, each under its name with its settings
+* ``stages``: the controller's layers, each under its name with its settings
   (:mod:`~mentor_core.controller.stage`). A built-in stage is named by its name
-  (:data:`BUILT_IN`); any other by ``plugin: "module:Class"``, a :class:`Stage` subclass that
-  is imported, as Nav2 loads a controller plugin: one module and one entry add a layer.
+  (:data:`BUILT_IN`, whose order they run in: :func:`in_order`); any other by ``plugin:
+  "module:Class"``, a :class:`Stage` subclass that is imported, as Nav2 loads a controller
+  plugin, and runs where the file lists it: one module and one entry add a layer.
 
 ``shipped`` names the shipped planners' deployment of a robot (``data/deployments.yaml``),
 ``none`` the empty one (the network decides alone, as trained), anything else a YAML file.
@@ -19,9 +20,9 @@ A deployment (Nav2's parameter file is the model) says three things:
 Errors are one :class:`~mentor_core.errors.ConfigError` line naming the file and the key.
 
 A genome's metadata may name stages it was trained with (``view_margin``: a view corridor,
-``rotation_shim``: a rotation shim); they run under every deployment (:func:`trained_stages`),
-before the deployment's, unless the deployment lists a stage of the same name, whose settings
-then apply.
+``rotation_shim``: a rotation shim); they run under every deployment (:func:`trained_stages`)
+unless the deployment names a stage of the same name: its settings then apply, and ``null``
+drops it.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ from mentor_core.controller.stage import Stage
 from mentor_core.controller.turn_commitment import TurnCommitment
 from mentor_core.controller.turn_gain import TurnGain
 from mentor_core.controller.view_corridor import ViewCorridor
-from mentor_core.errors import ConfigError, short_repr
+from mentor_core.errors import ConfigError, is_number, short_repr
 from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.scan_map import scan_guide_config
 from mentor_core.sim.robots import RobotProfile, get_profile, load_profiles
@@ -52,7 +53,6 @@ from mentor_core.validation import (
     Int,
     config_dataclass,
     read_yaml,
-    to_plain,
     validate,
     with_settings,
 )
@@ -62,6 +62,7 @@ BUILT_IN: dict[str, type[Stage]] = {
     cls.name: cls
     for cls in (ViewCorridor, TurnGain, TurnCommitment, RotationShim, CollisionGuardStage)
 }
+_RANK = {cls: rank for rank, cls in enumerate(BUILT_IN.values())}
 #: the deployment names that are no file
 NAMED = ("shipped", "none")
 #: the most decisions a deployment makes in a trained period
@@ -109,9 +110,22 @@ class Deployment:
     that is not built in); null: none."""
 
     def build(self, source: str | Path | None = None) -> tuple[Stage, ...]:
-        """The stages, each validated; ConfigError naming ``source`` and the key."""
-        return tuple(_stage(name, settings or {}, source) for name, settings in
-                     self.stages.items() if settings is not None)  # fmt: skip
+        """The stages, each validated, in order (:func:`in_order`); ConfigError naming
+        ``source`` and the key."""
+        return in_order([_stage(name, settings or {}, source) for name, settings in
+                         self.stages.items() if settings is not None])  # fmt: skip
+
+
+def in_order(stages: Sequence[Stage]) -> tuple[Stage, ...]:
+    """``stages`` with the built-in ones in the order of :data:`BUILT_IN` (a gain on the turn
+    before a rotation shim, which then keeps its full turn, whatever order a file or ``--set``
+    gave them), each plugin where it was listed among them."""
+    slots = [i for i, s in enumerate(stages) if type(s) in _RANK]
+    ranked = sorted((stages[i] for i in slots), key=lambda s: _RANK[type(s)])
+    out = list(stages)
+    for i, stage in zip(slots, ranked, strict=True):
+        out[i] = stage
+    return tuple(out)
 
 
 def _stage(name: str, settings: Mapping[str, Any], source: str | Path | None) -> Stage:
@@ -136,10 +150,14 @@ def _plugin(ref: object, key: str, source: str | Path | None) -> type[Stage]:
         raise ConfigError(f"expected \"module:Class\", got {short_repr(ref)}", key, source)
     try:
         found = getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError) as err:
-        raise ConfigError(f"cannot load {ref!r}: {err}", key, source) from None
+    except Exception as err:  # a plugin's module may fail in any way: one line, not a trace
+        raise ConfigError(f"cannot load {ref!r}: {type(err).__name__}: {err}", key,
+                          source) from None  # fmt: skip
     if not (isinstance(found, type) and issubclass(found, Stage)):
         raise ConfigError(f"{ref!r} is not a Stage (mentor_core.controller.Stage)", key, source)
+    if not hasattr(found, "__pydantic_validator__"):
+        raise ConfigError(f"{ref!r} is not a config dataclass (decorate it with "
+                          "mentor_core.config_dataclass)", key, source)  # fmt: skip
     return found
 
 
@@ -160,7 +178,7 @@ def load_deployment(
         source = f"the shipped deployment of {robot}"
         if data is None:
             raise ConfigError(f"no shipped deployment for robot {robot!r} (shipped: "
-                              f"{', '.join(shipped_deployments())})", path="--deployment")
+                              f"{', '.join(shipped_deployments())})", key="shipped")
     else:
         data = read_yaml(text)
         source = text
@@ -194,6 +212,9 @@ def trained_stages(metadata: Mapping[str, Any], source: str | Path = "") -> tupl
         value = metadata.get(key)
         if value is None:
             continue
+        if key == "rotation_shim" and not (is_number(value) and 0.0 < value <= math.pi):
+            raise ConfigError(f"must be a number in (0, pi] rad, got {short_repr(value)}",
+                              key=key, path=source or None)  # fmt: skip
         try:
             stages.append(make(value))
         except ConfigError as err:
@@ -213,12 +234,6 @@ class Deployed:
     stages: tuple[Stage, ...] = ()
     guide: GuideConfig | None = None
 
-    def record(self) -> dict[str, Any]:
-        """The stages' settings as ``bench.json`` lists them."""
-        out: dict[str, Any] = {}
-        for stage in self.stages:
-            out.update(stage.record())
-        return out
 
 
 def deploy(
@@ -231,16 +246,10 @@ def deploy(
         profile, profile.control_period / deployment.decisions_per_period, source
     )
     listed = deployment.build(source)
-    names = {stage.name for stage in listed}
-    stages = tuple(s for s in trained if s.name not in names) + listed
+    named = {stage.name for stage in listed} | set(deployment.stages)  # null drops one too
+    stages = in_order([s for s in trained if s.name not in named] + list(listed))
     guide = None if deployment.scan_map is None else deployment.scan_map.guide(split, source)
     return Deployed(split, stages, guide)
-
-
-def describe(deployment: Deployment) -> dict[str, Any]:
-    """The deployment as plain values (a file's mapping)."""
-    plain: dict[str, Any] = to_plain(deployment)
-    return plain
 
 
 __all__ = [
@@ -249,7 +258,7 @@ __all__ = [
     "Deployment",
     "ScanMapPlan",
     "deploy",
-    "describe",
+    "in_order",
     "load_deployment",
     "shipped_deployments",
     "trained_stages",

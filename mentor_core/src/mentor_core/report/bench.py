@@ -34,6 +34,7 @@ from mentor_core.report.tables import _fmt, _md_table, _pct
 
 _PALETTES = {"evolved": ("tab:blue", "tab:cyan", "tab:purple", "navy", "steelblue"),
              "baseline": ("tab:orange", "tab:green", "tab:brown", "gold"),
+             "pursuit": ("tab:gray", "dimgray", "silver"),
              "oracle": ("0.45", "0.2")}  # fmt: skip
 _ENDS = {"reached": "o", "collided": "x", "timed out": "$\\circ$"}
 LIMIT_TITLES = {"paper": "the paper's 50 s", "scaled": "the limit scaled to the shortest path"}
