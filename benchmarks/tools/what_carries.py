@@ -9,8 +9,7 @@ Runs ``mentor-bench`` (no baselines, no oracle) on the given genomes, once per r
   (``--pursuit``: one pursuit, since the seeds share their settings);
 - the shipped deployment with one part left out: the plan on the scan map
   (``scan_map=null``), the split decisions (``decisions_per_period=1``), and each of its stages
-  (``stages.<name>=null``; a view corridor ``margin=.inf``, since the genomes were trained with
-  one and would keep it);
+  (``stages.<name>=null``, which drops a stage the genomes were trained with too);
 - the networks alone (``--deployment none``: as trained, with the stages they were trained
   with).
 
@@ -33,9 +32,6 @@ from typing import Any
 from mentor_core.cli.bench import main as bench_main
 from mentor_core.controller.deployment import load_deployment
 
-#: the setting that leaves a stage out, where null would not (a stage the genome trained with)
-_OFF = {"view_corridor": "stages.view_corridor.margin=.inf"}
-
 
 def rows(robot: str) -> list[tuple[str, list[str]]]:
     """``(row, mentor-bench arguments)`` of each run (module docstring)."""
@@ -43,7 +39,7 @@ def rows(robot: str) -> list[tuple[str, list[str]]]:
     out = [("shipped, and a pure pursuit of its plan", ["--deployment", "shipped", "--pursuit"])]
     leave = [("without the scan map's plan", "scan_map=null"),
              ("deciding once per trained period", "decisions_per_period=1")]  # fmt: skip
-    leave += [(f"without the {name.replace('_', ' ')}", _OFF.get(name, f"stages.{name}=null"))
+    leave += [(f"without the {name.replace('_', ' ')}", f"stages.{name}=null")
               for name in shipped.stages]  # fmt: skip
     out += [(row, ["--deployment", "shipped", "--set", setting]) for row, setting in leave]
     out.append(("the networks alone (as trained)", ["--deployment", "none"]))

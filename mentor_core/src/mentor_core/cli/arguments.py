@@ -10,9 +10,10 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from pathlib import Path
 from typing import NoReturn
 
-from mentor_core.controller.deployment import Deployment, load_deployment
+from mentor_core.controller.deployment import NAMED, Deployment, load_deployment
 from mentor_core.errors import ConfigError
 
 
@@ -79,6 +80,11 @@ def deployment_names(args: argparse.Namespace) -> list[str]:
     return list(given) if isinstance(given, list) else [given]
 
 
+def deployment_files(args: argparse.Namespace) -> list[Path]:
+    """The deployment files ``--deployment`` names (inputs no output may replace)."""
+    return [Path(name) for name in deployment_names(args) if name not in NAMED]
+
+
 def deployment_of(args: argparse.Namespace, robot: str) -> list[Deployment]:
     """The deployments ``--deployment`` and ``--set`` name for robot ``robot``, in order;
     ConfigError naming the file or ``--set`` and the key, and for ``--set`` with more than
@@ -107,6 +113,7 @@ def fail(prog: str, message: object) -> int:
 
 
 __all__ = [
-    "Parser", "add_deployment_arguments", "count", "deployment_names", "deployment_of",
+    "Parser", "add_deployment_arguments", "count", "deployment_files", "deployment_names",
+    "deployment_of",
     "duration", "fail", "index", "seed",
 ]

@@ -52,10 +52,15 @@ from mentor_core.benchmark.suite import (
     reference_profile,
     shipped_limits,
 )
-from mentor_core.cli.arguments import Parser, add_deployment_arguments, deployment_of
+from mentor_core.cli.arguments import (
+    Parser,
+    add_deployment_arguments,
+    deployment_files,
+    deployment_of,
+)
 from mentor_core.cli.outputs import check_folder
 from mentor_core.controller.collision_guard import CollisionGuardStage
-from mentor_core.controller.deployment import NAMED, Deployment
+from mentor_core.controller.deployment import Deployment
 from mentor_core.errors import MentorError, one_line
 from mentor_core.report.bench import bench_markdown
 from mentor_core.report.head_to_head import baseline_choice, head_to_head_markdown
@@ -263,8 +268,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.workers < 1:
             raise MentorError(f"--workers must be >= 1, got {args.workers}")
         if args.out is not None:
-            given = None if args.deployment in (None, *NAMED) else Path(args.deployment)
-            inputs = [*args.genomes, *filter(None, [args.baselines_chosen_on, given])]
+            inputs = [*args.genomes, *filter(None, [args.baselines_chosen_on]),
+                      *deployment_files(args)]
             check_folder("--out", args.out, inputs, args.force)
         began = time.perf_counter()
         suite, contenders = _setup(args)

@@ -48,6 +48,7 @@ from mentor_core.cli.arguments import (
     Parser,
     add_deployment_arguments,
     count,
+    deployment_files,
     deployment_names,
     deployment_of,
     duration,
@@ -55,7 +56,6 @@ from mentor_core.cli.arguments import (
     seed,
 )
 from mentor_core.cli.outputs import check_bag, check_distinct, check_file
-from mentor_core.controller.deployment import NAMED
 from mentor_core.errors import FileFormatError, MentorError, one_line
 from mentor_core.files.bags import read_scenario_bag
 from mentor_core.navigation.grid import world_grid
@@ -174,14 +174,6 @@ def eval_document(
     }
 
 
-def _one_period(profiles: list[RobotProfile]) -> RobotProfile:
-    """The profile the recording's simulator steps with: the planners' (their control period
-    and the time budgets the table used). MentorError when they decide at different periods,
-    which one recording cannot step at."""
-    one_period([p.control_period for p in profiles], "--record them one at a time")
-    return profiles[0]
-
-
 def record(
     path: Path,
     profile: RobotProfile,
@@ -283,9 +275,8 @@ def build_parser() -> argparse.ArgumentParser:
 def check_outputs(args: argparse.Namespace) -> None:
     """Refuse ``--out`` and ``--record`` paths that would replace an input, or an existing
     file or bag without ``--force`` (before any work)."""
-    given = [Path(d) for d in deployment_names(args) if d not in NAMED]
     sources = (args.world, args.bag, args.map)
-    inputs = [*args.genomes, *(p for p in sources if p is not None), *given]
+    inputs = [*args.genomes, *(p for p in sources if p is not None), *deployment_files(args)]
     check_distinct({"--out": args.out, "--record": args.record})
     if args.out is not None:
         check_file("--out", args.out, inputs, args.force)
@@ -332,7 +323,6 @@ def main(argv: list[str] | None = None) -> int:
         chosen = [scenarios[i] for i in numbers]
         runs: list[tuple[str, str, Assessment]] = []
         planners: list[GenomePlanner | GuidedPlanner | ScanGuidedPlanner] = []
-        recorded: list[RobotProfile] = []  # the profile each recorded planner decides with
         modes = [""] + ["+global-plan"] * args.global_plan
         runs_of = [(label, path, name, *deployed_genome(path, profile.name, deployment))
                    for label, path in zip(labels, args.genomes, strict=True)
@@ -340,6 +330,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.record is not None:  # one recording steps at one period: known before any run
             one_period([r[4].profile.control_period for r in runs_of],
                        "--record them one at a time")  # fmt: skip
+        # the planners' profile (their period and the table's time budgets) steps a recording
+        recording_profile = runs_of[0][4].profile
         for label, path, name, genome, deployed in runs_of:
             planner = deployed.profile
             goals = [sc.goal for sc in chosen]
@@ -365,9 +357,8 @@ def main(argv: list[str] | None = None) -> int:
                     # the guard counts the arena's border as known, as in the table
                     plain = GenomePlanner(genome, planner, str(path), world.size, deployed.stages)
                     planners.append(_planner(plain, guide, world, mode))
-                    recorded.append(planner)
         if args.record is not None:
-            record(args.record, _one_period(recorded), world, chosen, args.time_limit, runs,
+            record(args.record, recording_profile, world, chosen, args.time_limit, runs,
                    planners, numbers, args.force)  # fmt: skip
         if args.out is not None:
             doc = eval_document(

@@ -219,9 +219,6 @@ def trained_stages(metadata: Mapping[str, Any], source: str | Path = "") -> tupl
             stages.append(make(value))
         except ConfigError as err:
             raise ConfigError(err.message, key=key, path=source or None) from None
-        except TypeError:
-            raise ConfigError(f"expected a number, got {short_repr(value)}", key=key,
-                              path=source or None) from None
     return tuple(stages)
 
 
