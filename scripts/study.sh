@@ -5,7 +5,9 @@
 # mean +- sd) and on bags/unseen/<robot> (mentor-eval); one report over everything.
 # Usage: scripts/study.sh [OUT_DIR] [SEEDS] [JOBS] [CONFIGS]
 #   defaults: out/study, "1 2 3", 2, "original paper" (the paper's settings and the shipped
-#   ones; a CONFIGS word is a shipped config name or a YAML file, labelled by its stem).
+#   ones; a CONFIGS word is a shipped config name, a YAML file labelled by its stem, or a
+#   folder holding <robot>.yaml for each robot, labelled by its name; ":dual" or ":single"
+#   after a word trains that framework alone, e.g. benchmarks/configs/simplicity:dual).
 #   JOBS: training runs side by side, and the benchmark's worker processes.
 # Runs go to OUT/<config>/<robot>-<framework>-s<seed>; finished ones are kept, interrupted
 # ones resume. Nothing here chooses a setting: the test split and the bags are only reported.
@@ -14,7 +16,12 @@
 # shipped": the rows of benchmarks/RESULTS.md's headline tables; "--deployment shipped --set
 # stages.turn_gain=null" without the Swarm-Robot's turn gain, "--deployment FILE" any other
 # deployment; "" for the plain rows only), and the unseen bags are scored a second time that
-# way (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-...").
+# way (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-..."); the networks
+# alone are benched too (bench_<robot>_plain, no baselines). Last, the report of everything
+# (OUT/report) and the paper's results side by side (OUT/reproduction.md, mentor-report
+# --paper; docs/reproduction.md is that page of the study in benchmarks/RESULTS.md).
+# Issue 55's study: scripts/study.sh out/study "1 2 3 4 5" 2 \
+#   "original paper benchmarks/configs/simplicity:dual"
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
@@ -28,23 +35,29 @@ PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family
 read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---deployment shipped}"
 BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
-label() { basename "${1%.yaml}"; }
+word() { echo "${1%%:*}"; }  # a CONFIGS word without its frameworks
+label() { local w; w="$(word "$1")"; basename "${w%.yaml}"; }
+frameworks() { [[ "$1" == *:* ]] && echo "${1##*:}" | tr ',' ' ' || echo "single dual"; }
+config_for() {  # word robot: the --config value
+  local w; w="$(word "$1")"
+  if [ -d "$w" ]; then echo "$w/$2.yaml"; else echo "$w"; fi
+}
 train_one() {  # config robot framework seed
   local run="$OUT/$(label "$1")/$2-$3-s$4" resume=()
   mkdir -p "$(dirname "$run")"
   [ -n "$(ls -A "$run" 2>/dev/null)" ] && resume=(--resume)
-  "$BIN/mentor-train" --robot "$2" --framework "$3" --config "$1" --seed "$4" --out "$run" \
-    --quiet "${resume[@]}" && echo "study: trained $run" >&2
+  "$BIN/mentor-train" --robot "$2" --framework "$3" --config "$(config_for "$1" "$2")" \
+    --seed "$4" --out "$run" --quiet "${resume[@]}" && echo "study: trained $run" >&2
 }
-export -f train_one label
+export -f train_one label word config_for
 export OUT BIN
-for config in $CONFIGS; do for robot in ugv swarm; do for fw in single dual; do
+for config in $CONFIGS; do for robot in ugv swarm; do for fw in $(frameworks "$config"); do
   for s in $SEEDS; do echo "$config $robot $fw $s"; done
 done; done; done | xargs -P "$JOBS" -L 1 bash -c 'train_one "$@"' _
 extra=() runs=()
 for robot in ugv swarm; do
   genomes=() labels=()
-  for config in $CONFIGS; do for fw in single dual; do for s in $SEEDS; do
+  for config in $CONFIGS; do for fw in $(frameworks "$config"); do for s in $SEEDS; do
     run="$OUT/$(label "$config")/$robot-$fw-s$s"
     genomes+=("$run/best_genome.json"); labels+=(--label "$(label "$config")-$fw-s$s")
     runs+=("$run")
@@ -66,6 +79,13 @@ for robot in ugv swarm; do
     --pairs-per-family "$PAIRS" "${BENCH_FLAGS[@]}" --workers "$JOBS" --out "$OUT/bench_$robot" \
     > "$OUT/bench_$robot.txt"
   extra+=(--bench "$OUT/bench_$robot/bench.json")
+  if [ "${#BENCH_FLAGS[@]}" -gt 0 ]; then  # the networks alone too, without baselines
+    rm -rf "$OUT/bench_${robot}_plain"
+    "$BIN/mentor-bench" "${genomes[@]}" "${labels[@]}" --robot "$robot" --split test \
+      --pairs-per-family "$PAIRS" --baselines none --no-oracle --workers "$JOBS" \
+      --out "$OUT/bench_${robot}_plain" > "$OUT/bench_${robot}_plain.txt"
+  fi
 done
 "$BIN/mentor-report" "${runs[@]}" "${extra[@]}" --out "$OUT/report" --force
-echo "study: report at $OUT/report/report.md" >&2
+"$BIN/mentor-report" --paper "$OUT" --out "$OUT/reproduction.md" --force
+echo "study: report at $OUT/report/report.md, the paper side by side at $OUT/reproduction.md" >&2

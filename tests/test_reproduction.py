@@ -1,187 +1,149 @@
-"""MENTOR breeding: elites, niche growth/shrinkage, extinction, global champions, determinism."""
+"""The reproduction page (mentor-report --paper): the claims' verdicts on synthetic studies
+whose answer is known, the Mann-Whitney test against its exact value, and the command's
+outputs and refusals."""
 
 from __future__ import annotations
 
-import dataclasses
+import csv
+from pathlib import Path
 
-import numpy as np
 import pytest
+from test_report import _assert_png, make_eval, make_run
 
-from mentor_core.evolution.config import EvolutionConfig
-from mentor_core.evolution.genome import Genome, minimal_genome
-from mentor_core.evolution.innovation import InnovationTracker
-from mentor_core.evolution.mutation import MutationConfig
-from mentor_core.evolution.reproduction import (
-    elite_count,
-    global_count,
-    order_by_fitness,
-    reproduce,
-)
-from mentor_core.evolution.selection import niche_sizes
+from mentor_core.cli.report import main as report_main
+from mentor_core.errors import FileFormatError
+from mentor_core.report.paper_claims import CLAIMS, Claim
+from mentor_core.report.reproduction import PAGE_TITLE, write_reproduction
+from mentor_core.report.significance import compare, directed_verdict
+from mentor_core.report.study import load_study
 
-# No mutation and no crossover: every child is an exact copy of its (first) parent, so each
-# child can be traced back to the genome it came from.
-FROZEN = MutationConfig(weight_rate=0.0, node_rate=0.0, edge_rate=0.0)
+SEEDS = (1, 2, 3, 4)
 
 
-def population(n: int, seed: int = 0) -> tuple[list[Genome], InnovationTracker]:
-    tracker = InnovationTracker(next_node_id=4)
-    rng = np.random.default_rng(seed)
-    return [minimal_genome(2, 1, tracker, rng) for _ in range(n)], tracker
+def _scale_best_f(run: Path, factor: float) -> None:
+    """Multiply a run's best F in every generation by ``factor``."""
+    path = run / "history.csv"
+    with path.open(newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    for row in rows:
+        row["best_F"] = str(float(row["best_F"]) * factor)
+    with path.open("w", newline="", encoding="utf-8") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
 
 
-def config(n: int, **kw: object) -> EvolutionConfig:
-    base = {"population_size": n, "crossover_rate": 0.0, "mutation": FROZEN}
-    base.update(kw)
-    return EvolutionConfig(**base)  # type: ignore[arg-type]
+def make_study(root: Path, single_factor: float = 1.0, dominant: bool = False) -> Path:
+    """A study folder of UGV runs under config ``original``, 4 seeds a framework, the single
+    stage's best F scaled by ``single_factor``; and their unseen evaluation."""
+    for framework in ("single", "dual"):
+        for seed in SEEDS:
+            run = make_run(root / "original", f"ugv-{framework}-s{seed}", framework=framework,
+                           seed=seed, dominant=dominant)  # fmt: skip
+            if framework == "single":
+                _scale_best_f(run, single_factor)
+    labels = [(f"original-{fw}-s{s}", root / "g.json") for fw in ("single", "dual") for s in SEEDS]
+    make_eval(root / "eval_unseen_ugv.json", labels)
+    return root
 
 
-def parent_of(child: Genome, genomes: list[Genome]) -> int:
-    matches = [i for i, g in enumerate(genomes) if g == child]
-    assert len(matches) == 1
-    return matches[0]
+def _claim(where: str, text: str) -> Claim:
+    return next(c for c in CLAIMS if c.where == where and text in c.paper)
 
 
-def test_counts() -> None:
-    assert elite_count(0.02, 100) == 2
-    assert elite_count(0.02, 150) == 3
-    assert elite_count(0.001, 100) == 1  # at least one when elitism > 0
-    assert elite_count(0.0, 100) == 0
-    assert global_count(0.1, 150) == 15
-    assert global_count(0.0, 150) == 0
+def test_mann_whitney_matches_its_exact_value_and_the_verdict_follows_the_direction() -> None:
+    # five seeds a side, fully separated: the exact two-sided p is 2 / C(10, 5) = 2 / 252
+    high, low = [5.0, 6.0, 7.0, 8.0, 9.0], [1.0, 2.0, 3.0, 4.0, 4.5]
+    c = compare(high, low)
+    assert c.p == pytest.approx(2 / 252)
+    assert directed_verdict(c, a_higher=True) == "holds"
+    assert directed_verdict(c, a_higher=False) == "fails"
+    assert directed_verdict(compare(high, [5.5, 6.5, 7.5, 8.5, 9.5])) == "not shown"
+    assert directed_verdict(compare([1.0], low)) == "cannot be tested"
+    assert compare([2.0, 2.0], [2.0, 2.0]).p == 1.0
 
 
-def test_order_by_fitness_ties_to_lower_index() -> None:
-    f = np.array([1.0, 3.0, 2.0, 3.0])
-    assert order_by_fitness(f).tolist() == [1, 3, 2, 0]
-    assert order_by_fitness(f, np.array([0, 2, 3])).tolist() == [3, 2, 0]
+@pytest.mark.parametrize(("factor", "verdict"), [(3.0, "holds"), (0.3, "fails"),
+                                                  (1.0, "not shown")])  # fmt: skip
+def test_the_single_stage_ends_higher_only_when_its_seeds_do(
+    tmp_path: Path, factor: float, verdict: str
+) -> None:
+    study = load_study(make_study(tmp_path, single_factor=factor))
+    claim = _claim("Fig. 8", "eventually outperforms")
+    finding = claim.check(study, "original")
+    assert finding.verdict == verdict, finding.text
+    assert "single" in finding.text and "p = " in finding.text
 
 
-@pytest.mark.parametrize("seed", range(5))
-def test_total_is_population_size_and_elites_first(seed: int) -> None:
-    rng = np.random.default_rng(seed)
-    n = 50
-    genomes, tracker = population(n, seed)
-    fitness = rng.uniform(0.1, 5.0, n)
-    labels = rng.integers(0, 6, n)
-    cfg = config(n, elitism=0.06, global_fraction=0.1)
-    out = reproduce(genomes, fitness, labels, cfg, tracker, rng)
-    assert len(out.genomes) == n
-    best3 = np.argsort(-fitness)[:3].tolist()
-    assert list(out.elites) == best3
-    for k, i in enumerate(best3):
-        assert out.genomes[k] is genomes[i]
-    assert out.n_global == 5
-    assert sum(out.niche_targets.values()) == n - 3 - 5
-    assert out.niche_targets == niche_sizes(fitness, labels, n - 3 - 5)
+def test_niche_sizes_are_judged_against_the_papers_range(tmp_path: Path) -> None:
+    # the synthetic niches: 4-8 even species, or one holding 18 of 24 genomes
+    even = load_study(make_study(tmp_path / "even"))
+    dominant = load_study(make_study(tmp_path / "dominant", dominant=True))
+    dual = _claim("Fig. 9", "largest niche")
+    assert dual.check(even, "original").verdict == "holds"  # a median near 27 %
+    assert dual.check(dominant, "original").verdict == "fails"  # above 35 %
+    assert "median 75 ± 0 %" in dual.check(dominant, "original").text  # 18 of 24
 
 
-def test_niche_children_come_from_their_niche_and_shrinkage_drops_the_worst() -> None:
-    n = 20
-    genomes, tracker = population(n)
-    # niche 0: 12 weak members; niche 1: 8 strong members -> niche 0 must shrink
-    labels = np.array([0] * 12 + [1] * 8)
-    fitness = np.concatenate([np.linspace(1.0, 2.0, 12), np.linspace(5.0, 6.0, 8)])
-    cfg = config(n, elitism=0.0, global_fraction=0.0)
-    out = reproduce(genomes, fitness, labels, cfg, tracker, np.random.default_rng(1))
-    t0, t1 = out.niche_targets[0], out.niche_targets[1]
-    assert t0 + t1 == n
-    assert t0 < 12  # shrinks
-    children = [parent_of(c, genomes) for c in out.genomes]
-    # niches bred in id order: first t0 children from niche 0, then t1 from niche 1
-    first, second = children[:t0], children[t0:]
-    assert all(labels[p] == 0 for p in first)
-    assert all(labels[p] == 1 for p in second)
-    # the pool of niche 0 is its t0 best members: the worst 12 - t0 never breed
-    pool0 = set(np.argsort(-fitness[:12])[:t0].tolist())
-    assert set(first) <= pool0
+def test_a_claim_without_its_runs_cannot_be_tested(tmp_path: Path) -> None:
+    study = load_study(make_study(tmp_path))
+    for claim in CLAIMS:
+        if claim.robot == "swarm":
+            assert claim.check(study, "original").verdict == "cannot be tested", claim.paper
 
 
-def test_small_strong_niche_grows() -> None:
-    n = 20
-    genomes, tracker = population(n)
-    labels = np.array([0] * 18 + [1] * 2)
-    fitness = np.array([1.0] * 18 + [10.0] * 2)
-    cfg = config(n, elitism=0.0, global_fraction=0.0)
-    out = reproduce(genomes, fitness, labels, cfg, tracker, np.random.default_rng(2))
-    assert out.niche_targets[1] > 2
-    children = [parent_of(c, genomes) for c in out.genomes]
-    assert sum(labels[p] == 1 for p in children) == out.niche_targets[1]
+def test_the_unseen_claims_read_the_study_evaluation(tmp_path: Path) -> None:
+    study = load_study(make_study(tmp_path))
+    finding = _claim("Sec. IV-D", "both fail").check(study, "original")
+    # make_eval: the genomes reach 2 or 3 of their 5 pairs, above the paper's "at most 2 of 10"
+    reached = {
+        fw: [sum(r.reached for r in x.results) for x in study.unseen_runs("original", "ugv", fw)]
+        for fw in ("single", "dual")
+    }
+    assert all(len(v) == len(SEEDS) and set(v) <= {2, 3} for v in reached.values())
+    assert finding.text.startswith(f"single {sum(reached['single']) / len(SEEDS):.1f} ± ")
+    assert finding.verdict == "fails"
 
 
-def test_zero_target_niche_goes_extinct() -> None:
-    n = 10
-    genomes, tracker = population(n)
-    labels = np.array([0] * 9 + [1])
-    fitness = np.array([10.0] * 9 + [0.01])
-    cfg = config(n, elitism=0.0, global_fraction=0.0)
-    out = reproduce(genomes, fitness, labels, cfg, tracker, np.random.default_rng(3))
-    assert out.niche_targets[1] == 0
-    assert all(parent_of(c, genomes) != 9 for c in out.genomes)
+def test_the_page_holds_every_claim_and_links_figures_that_exist(tmp_path: Path) -> None:
+    page = write_reproduction(make_study(tmp_path / "study", single_factor=3.0),
+                              tmp_path / "docs" / "reproduction.md")  # fmt: skip
+    text = page.read_text(encoding="utf-8")
+    assert text.startswith(PAGE_TITLE + "\n")
+    claims = text.split("## Every claim")[1].split("\n## ")[0]
+    table = [line for line in claims.splitlines() if line.startswith("| ")]
+    assert len(table) == 1 + len(CLAIMS)
+    links = [x.split("](")[1].rstrip(")") for x in text.splitlines() if x.startswith("![")]
+    assert [Path(x).name[:5] for x in links] == [f"fig{n:02d}" for n in range(7, 13)]
+    for link in links:
+        _assert_png(page.parent / link)
 
 
-def test_global_offspring_come_from_champions() -> None:
-    n = 30
-    genomes, tracker = population(n)
-    rng = np.random.default_rng(4)
-    labels = np.repeat(np.arange(5), 6)
-    fitness = rng.uniform(1.0, 2.0, n)
-    cfg = config(n, elitism=0.0, global_fraction=0.2)
-    out = reproduce(genomes, fitness, labels, cfg, tracker, rng)
-    champions = {int(np.flatnonzero(labels == s)[np.argmax(fitness[labels == s])]) for s in
-                 range(5)}
-    tail = [parent_of(c, genomes) for c in out.genomes[-out.n_global:]]
-    assert out.n_global == 6
-    assert set(tail) <= champions
+def test_cli_writes_the_page_and_refuses_what_it_cannot_do(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    study = make_study(tmp_path / "study")
+    page = tmp_path / "docs" / "reproduction.md"
+    assert report_main(["--paper", str(study), "--out", str(page)]) == 0
+    before = page.read_bytes()
+    # an existing page is kept without --force; replaced with it
+    assert report_main(["--paper", str(study), "--out", str(page)]) == 2
+    assert "already exists" in capsys.readouterr().err
+    assert page.read_bytes() == before
+    assert report_main(["--paper", str(study), "--out", str(page), "--force"]) == 0
+    capsys.readouterr()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert report_main(["--paper", str(empty), "--out", str(tmp_path / "x.md")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(empty) in err[0] and "no finished run" in err[0]
+    with pytest.raises(SystemExit):
+        report_main(["--paper", str(study), "--out", str(tmp_path / "folder")])
+    with pytest.raises(SystemExit):
+        report_main(["--paper", str(study), str(study / "original" / "ugv-dual-s1"),
+                     "--out", str(tmp_path / "y.md")])  # fmt: skip
 
 
-def test_same_generator_state_same_offspring() -> None:
-    n = 40
-    genomes, tracker = population(n)
-    labels = np.repeat(np.arange(4), 10)
-    fitness = np.random.default_rng(5).uniform(0.5, 3.0, n)
-    cfg = EvolutionConfig(population_size=n, mutation=MutationConfig(node_rate=0.3, edge_rate=0.3))
-    t1 = InnovationTracker.from_state(tracker.to_state())
-    t2 = InnovationTracker.from_state(tracker.to_state())
-    a = reproduce(genomes, fitness, labels, cfg, t1, np.random.default_rng(9))
-    b = reproduce(genomes, fitness, labels, cfg, t2, np.random.default_rng(9))
-    c = reproduce(genomes, fitness, labels, cfg, tracker, np.random.default_rng(10))
-    assert a == b
-    assert t1.to_state() == t2.to_state()
-    assert a.genomes != c.genomes
-    # structural mutations happened and every child is a valid network of the right shape
-    assert any(len(g.hidden_nodes) > 0 for g in a.genomes)
-    assert all((g.n_inputs, g.n_outputs) == (2, 1) for g in a.genomes)
-
-
-def test_crossover_and_mutation_change_children() -> None:
-    n = 20
-    genomes, tracker = population(n)
-    labels = np.zeros(n, dtype=np.int64)
-    fitness = np.linspace(1.0, 2.0, n)
-    cfg = dataclasses.replace(config(n, elitism=0.0), mutation=MutationConfig(weight_rate=1.0))
-    out = reproduce(genomes, fitness, labels, cfg, tracker, np.random.default_rng(6))
-    assert all(g not in genomes for g in out.genomes)
-
-
-def test_new_generation_clears_split_cache() -> None:
-    genomes, tracker = population(10)
-    tracker.split(0, taken_nodes=set())
-    assert tracker.to_state()["splits"]
-    reproduce(
-        genomes, np.ones(10), np.zeros(10, dtype=np.int64), config(10), tracker,
-        np.random.default_rng(0),
-    )
-    assert tracker.to_state()["splits"] == []
-
-
-def test_bad_inputs() -> None:
-    genomes, tracker = population(5)
-    rng = np.random.default_rng(0)
-    cfg = config(5)
-    with pytest.raises(ValueError, match="shape"):
-        reproduce(genomes, np.ones(4), np.zeros(5, dtype=np.int64), cfg, tracker, rng)
-    with pytest.raises(ValueError, match="finite"):
-        reproduce(genomes, np.full(5, np.nan), np.zeros(5, dtype=np.int64), cfg, tracker, rng)
-    with pytest.raises(ValueError, match="empty"):
-        reproduce([], np.ones(0), np.zeros(0, dtype=np.int64), cfg, tracker, rng)
+def test_a_missing_study_folder_is_named(tmp_path: Path) -> None:
+    with pytest.raises(FileFormatError, match="no such study folder"):
+        load_study(tmp_path / "nowhere")

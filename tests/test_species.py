@@ -191,6 +191,39 @@ def test_steering_reaches_target_on_real_population() -> None:
     assert abs(np.mean(counts[-10:]) - 6) <= 2  # settled around the target
 
 
+def test_merge_folds_a_younger_species_within_the_threshold_into_the_older() -> None:
+    old = genome({0: 1.0, 1: 1.0})
+    young = genome({0: 1.5, 1: 1.0})  # W = 0.25: D = 0.1 from old
+    member = genome({0: 1.4, 1: 1.0})  # nearer young (D = 0.04) than old (D = 0.08)
+    split, merging = SpeciationConfig(), SpeciationConfig(merge=True)
+    labels, reps, _ = speciate([member], {1: old, 2: young}, 0.5, split, next_id=3)
+    assert labels.tolist() == [2]  # without merge a species lives while it has members
+    labels, reps, _ = speciate([member], {1: old, 2: young}, 0.5, merging, next_id=3)
+    assert labels.tolist() == [1] and list(reps) == [1]  # young lay within 0.5 of old
+    labels, _, _ = speciate([member], {1: old, 2: young}, 0.09, merging, next_id=3)
+    assert labels.tolist() == [2]  # beyond the threshold both species stay
+
+
+def test_with_merge_the_species_count_follows_the_target_both_ways() -> None:
+    """A population split into many species returns to the target once the threshold rises;
+    without merge the count stays where the split left it (experiment E088)."""
+    tracker = InnovationTracker(3 + 1 + 2)
+    rng = np.random.default_rng(2)
+    pop = [minimal_genome(3, 2, tracker, rng, weight_sigma=2.0) for _ in range(40)]
+    counts = {}
+    for merge in (False, True):
+        cfg = SpeciationConfig(target_species=4, threshold=0.3, threshold_step=0.1, merge=merge)
+        threshold, reps, next_id, seen = cfg.threshold, {}, 0, []
+        for _ in range(40):
+            _, reps, next_id = speciate(pop, reps, threshold, cfg, next_id)
+            seen.append(len(reps))
+            threshold = adjust_threshold(threshold, seen[-1], cfg)
+        counts[merge] = seen
+    assert counts[False][0] > 10 and counts[True][0] > 10  # both split at 0.3
+    assert min(counts[False]) > 10  # and without merge never come back
+    assert abs(np.mean(counts[True][-10:]) - 4) <= 1
+
+
 @pytest.mark.parametrize(
     "kw",
     [{"target_species": 0}, {"threshold": 0.2, "threshold_min": 0.3}, {"c1": -1.0},

@@ -307,3 +307,37 @@ def test_only_the_best_gets_its_g_alike_in_process_and_in_a_pool() -> None:
         np.testing.assert_array_equal(got.objectives[:, 1], expected)
     with pytest.raises(ValueError, match="gains"):
         problem.evaluate(genomes, "some")  # type: ignore[arg-type]
+
+
+def test_simplicity_in_place_of_the_experience_gain_is_what_stage_one_ranks(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The experience gain's ablation (second_objective: simplicity): the first stage ranks F
+    beside the negated FLOPs complexity of each genome asked; the second ranks F as before."""
+    from mentor_core.evolution.loop import Evolution
+    from mentor_core.objectives.complexity import flops_ratio
+
+    told: list[tuple[str, np.ndarray, list[float]]] = []
+    ask, tell = Evolution.ask, Evolution.tell
+    asked: list[list[float]] = []
+
+    def spy_ask(self: Evolution) -> list:  # type: ignore[type-arg]
+        genomes = ask(self)
+        asked.append([flops_ratio(g) for g in genomes])
+        return genomes
+
+    def spy_tell(self: Evolution, objectives: np.ndarray, mode: str = "multi") -> object:
+        told.append((mode, objectives.copy(), asked[-1]))
+        return tell(self, objectives, mode=mode)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Evolution, "ask", spy_ask)
+    monkeypatch.setattr(Evolution, "tell", spy_tell)
+    train(tiny(second_objective="simplicity"), tmp_path / "run", seed=3)
+    assert [mode for mode, _, _ in told] == ["multi", "multi", "single", "single"]
+    for mode, objectives, complexity in told:
+        if mode == "multi":
+            assert objectives[:, 1].tolist() == [-c for c in complexity]
+    # G is still computed and recorded in the first stage
+    assert all(row["best_G"] for row in history_rows(tmp_path / "run")[:2])
+    with pytest.raises(ConfigError, match="second_objective"):
+        tiny(second_objective="novelty")

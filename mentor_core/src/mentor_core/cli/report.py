@@ -3,6 +3,7 @@
     mentor-report runs/ugv-single runs/ugv-dual --eval eval/ugv.json --out report/
     mentor-report runs/*-s* --out report/       # unfinished runs are skipped with a warning
     mentor-report runs/ugv-dual --bench bench/ugv/bench.json --out report/
+    mentor-report --paper out/study --out docs/reproduction.md   # the paper, side by side
 
 Writes PNG figures (Pareto front, convergence, niche sizes, performance vs complexity,
 topology, trajectories; with ``--bench`` the benchmark's success per family and example
@@ -11,6 +12,11 @@ with ``--force`` one holding files (an earlier report is replaced: its figures t
 does not draw are removed); never a run directory, an input's folder or a folder holding an
 input (``cli.outputs``). Checked before any run is read. A path that is no run directory, and
 a report with nothing in it (every run unfinished), are refused.
+
+With ``--paper STUDY`` (a ``scripts/study.sh`` folder) it writes the reproduction page
+instead: ``--out`` names the page (``.md``), its figures go into the folder of the page's
+stem beside it (``docs/reproduction/``); an existing page or a non-empty figure folder needs
+``--force`` (``report.reproduction``).
 """
 
 from __future__ import annotations
@@ -22,9 +28,10 @@ from pathlib import Path
 import matplotlib
 
 from mentor_core.cli.arguments import Parser, fail
-from mentor_core.cli.outputs import check_folder
+from mentor_core.cli.outputs import check_file, check_folder
 from mentor_core.errors import MentorError
 from mentor_core.report.markdown import write_report
+from mentor_core.report.reproduction import write_reproduction
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -47,7 +54,15 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="BENCH_JSON",
         help="mentor-bench JSON file (repeatable)",
     )
-    p.add_argument("--out", required=True, type=Path, help="output directory")
+    p.add_argument(
+        "--paper",
+        type=Path,
+        metavar="STUDY_DIR",
+        help="write the reproduction page of a scripts/study.sh folder: --out names the page "
+        "(.md), its figures go into the folder of the page's stem",
+    )
+    p.add_argument("--out", required=True, type=Path,
+                   help="output directory (with --paper: the page, .md)")  # fmt: skip
     p.add_argument(
         "--force",
         action="store_true",
@@ -61,9 +76,23 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (2 on bad input)."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    if not (args.runs or args.eval or args.bench):
+    if args.paper is not None:
+        if args.runs or args.eval or args.bench:
+            parser.error("--paper takes a study folder alone: no run directory, --eval or --bench")
+        if args.out.suffix != ".md":
+            parser.error(f"--out {args.out}: with --paper it names the page, a .md file")
+    elif not (args.runs or args.eval or args.bench):
         parser.error("give a run directory, --eval or --bench")
     matplotlib.use("Agg")  # no display needed; the report draws on the Agg canvas only
+    if args.paper is not None:
+        try:
+            check_file("--out", args.out, [args.paper], args.force)
+            check_folder("--out", args.out.with_suffix(""), [args.paper], args.force)
+            page = write_reproduction(args.paper, args.out)
+        except (MentorError, OSError) as err:
+            return fail("mentor-report", err)
+        print(f"mentor-report: wrote {page}", file=sys.stderr)
+        return 0
     try:
         check_folder("--out", args.out, [*args.runs, *args.eval, *args.bench], args.force)
         report = write_report(args.runs, args.eval, args.out, bench_jsons=args.bench)

@@ -7,6 +7,12 @@ first``, as Stanley & Miikkulainen 2002); otherwise it founds a new one. First-m
 oldest species absorb everything within reach: in paper-scale runs one species then held up
 to 98 % of the population in single generations, against the paper's "no niche above about
 a third".
+
+A species lives while it has members, so a rising threshold (:func:`adjust_threshold`) only
+stops new species forming: the count cannot fall back to ``target_species`` once the
+population has split (experiment E088). With ``merge``, each generation first merges the
+species whose representatives lie within the threshold of an older species' representative,
+so the count follows the target both ways.
 """
 
 from __future__ import annotations
@@ -35,7 +41,9 @@ class SpeciationConfig:
     ``threshold`` is the starting compatibility threshold; with ``target_species`` set,
     :func:`adjust_threshold` moves it by ``threshold_step`` per generation towards that many
     species, never below ``threshold_min``. ``assignment`` picks the species a genome joins
-    (module docstring): ``"nearest"`` or ``"first"``.
+    (module docstring): ``"nearest"`` or ``"first"``. ``merge`` merges the species whose
+    representatives lie within the threshold of an older one's before genomes are assigned
+    (module docstring; off: species only split, as in NEAT).
     """
 
     c1: _Coefficient = 1.0
@@ -46,6 +54,7 @@ class SpeciationConfig:
     threshold_step: _Coefficient = 0.3
     threshold_min: _Threshold = 0.3
     assignment: Assignment = "nearest"
+    merge: bool = False
 
     @model_validator(mode="after")
     def _threshold_above_its_floor(self) -> SpeciationConfig:
@@ -109,7 +118,9 @@ def speciate(
     distance is ``< threshold``; otherwise it founds species ``next_id`` as its representative
     (later genomes may join it). The new
     representative of each species with members is the member closest to its old
-    representative (first such member on ties). Species without members are dropped.
+    representative (first such member on ties). Species without members are dropped. With
+    ``cfg.merge``, a representative within ``threshold`` of an older (lower id) kept one is
+    dropped first, and its species' genomes join whichever species they now lie nearest.
     Returns ``(labels, representatives, next_id)``.
     """
     if not (np.isfinite(threshold) and threshold > 0.0):
@@ -121,6 +132,8 @@ def speciate(
         )
     # each representative's genes once, not once per genome compared with it
     reps = {sid: _genes(rep) for sid, rep in sorted(representatives.items())}
+    if cfg.merge:
+        reps = _merged(reps, threshold, cfg)
     labels = np.empty(len(genomes), dtype=np.int64)
     best: dict[int, tuple[float, int]] = {}  # species -> (distance to old rep, genome index)
     for k, genome in enumerate(genomes):
@@ -135,6 +148,18 @@ def speciate(
             best[species_id] = (gap, k)
     new_reps = {sid: genomes[best[sid][1]] for sid in sorted(best)}
     return labels, new_reps, next_id
+
+
+def _merged(reps: Mapping[int, _Genes], threshold: float, cfg: SpeciationConfig) -> dict[
+        int, _Genes]:  # fmt: skip
+    """``reps`` (ascending id) without each one that lies within ``threshold`` of an older
+    one kept."""
+    kept: dict[int, _Genes] = {}
+    for sid, genes in reps.items():
+        if all(_gene_distance(genes, k, cfg.c1, cfg.c2, cfg.c3) >= threshold
+               for k in kept.values()):  # fmt: skip
+            kept[sid] = genes
+    return kept
 
 
 def _closest(

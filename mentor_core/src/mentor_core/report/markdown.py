@@ -103,8 +103,8 @@ def write_report(
             raise FileFormatError(p, "not a training run directory (mentor-train --out writes "
                                      "one)")  # fmt: skip
         if p.is_dir() and not is_finished(p):
-            print(f"mentor-report: warning: {p}: unfinished run (no population.json), skipped",
-                  file=stream)  # fmt: skip
+            print(f"mentor-report: warning: {p}: unfinished run (no best_genome.json yet), "
+                  "skipped", file=stream)  # fmt: skip
             skipped.append(p)
             continue
         runs.append(load_run(p))
@@ -282,7 +282,7 @@ def write_report(
         md += lines
     if skipped:
         md += ["## Skipped", ""]
-        md += [f"- `{p}`: unfinished run (no population.json)" for p in skipped]
+        md += [f"- `{p}`: unfinished run (no best_genome.json yet)" for p in skipped]
         md += [""]
     report = out / REPORT_FILE
     write_text_atomic(report, "\n".join(md))

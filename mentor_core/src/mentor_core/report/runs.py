@@ -152,8 +152,10 @@ def read_history(path: str | Path) -> list[GenerationRecord]:
 
 
 def is_finished(run_dir: str | Path) -> bool:
-    """Whether a run directory holds a final population (the trainer writes it last)."""
-    return RunPaths(Path(run_dir)).population.is_file()
+    """Whether a run directory holds its final population and best genome (the trainer writes
+    the best genome last, after refining its weights where the config asks)."""
+    paths = RunPaths(Path(run_dir))
+    return paths.population.is_file() and paths.best_genome.is_file()
 
 
 def load_run(run_dir: str | Path) -> RunData:

@@ -182,6 +182,11 @@ class TrainerConfig:
     time budget holds the same number of decisions when the config sets none (its rated speed
     follows, mentor_core.sim.planner_settings.with_planner), and ``time_budget`` is in
     seconds. Also written into the metadata."""
+    second_objective: Literal["experience_gain", "simplicity"] = "experience_gain"
+    """What the dual stage's first stage ranks beside F: the paper's experience gain G, or
+    the network's simplicity (its FLOPs complexity negated, mentor_core.objectives.complexity;
+    not in the paper: the experience gain's ablation, issue 55). G is computed and recorded
+    either way, with the same evaluations."""
     novelty_neighbours: Annotated[Int, Field(ge=1)] | None = None
     """When set, novelty search's sparseness over this many nearest behaviours (the final
     positions in every training scenario; mentor_core.objectives.novelty) is ranked as a third

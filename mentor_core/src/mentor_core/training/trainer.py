@@ -64,18 +64,23 @@ _CONFIG_KEYS_ADDED: dict[str, Any] = {
     "novelty_neighbours": None, "novelty_archive_growth": 5, "success_credit": "time",
     "guide": "none", "guide_share": 1.0, "rotation_shim_deg": None, "control_period": None,
     "proximity_scale": None, "view_margin": None, "refinement": to_plain(RefinementConfig()),
+    "second_objective": "experience_gain",
 }
-# the same for keys of the evolution's mutation settings
+# the same for keys of the evolution's mutation and speciation settings
 _MUTATION_KEYS_ADDED: dict[str, Any] = {"recurrent_rate": 0.0}
+_SPECIATION_KEYS_ADDED: dict[str, Any] = {"merge": False}
 
 
 def _saved_config(state: dict[str, Any]) -> dict[str, Any]:
     """A checkpoint's config with the keys added since it was written (their old meaning)."""
     saved = {**_CONFIG_KEYS_ADDED, **(state.get("config") or {})}
     evolution = saved.get("evolution")
-    if isinstance(evolution, dict) and isinstance(evolution.get("mutation"), dict):
-        mutation = {**_MUTATION_KEYS_ADDED, **evolution["mutation"]}
-        saved["evolution"] = {**evolution, "mutation": mutation}
+    if isinstance(evolution, dict):
+        for key, added in (("mutation", _MUTATION_KEYS_ADDED),
+                           ("speciation", _SPECIATION_KEYS_ADDED)):  # fmt: skip
+            if isinstance(evolution.get(key), dict):
+                evolution = {**evolution, key: {**added, **evolution[key]}}
+        saved["evolution"] = evolution
     return saved
 
 
@@ -112,20 +117,27 @@ class _Run:
         self.refine_progress: Progress | None = None
         self.refinement: NavigationProblem | None = None  # its scenarios, when it refines
 
-    def ranked_objectives(self, evaluation: Evaluation, mode: Mode) -> np.ndarray:
-        """What the evolution is told: (F, G), and with novelty search each genome's novelty
-        against the population and the archive, which then takes the most novel; where F
-        is ranked alone ("single"), the novelty column is NaN (not computed) as G's is."""
+    def ranked_objectives(
+        self, evaluation: Evaluation, mode: Mode, genomes: Sequence[Genome]
+    ) -> np.ndarray:
+        """What the evolution is told: (F, G), or (F, simplicity) where the config ranks the
+        negated complexity beside F (``second_objective``); and with novelty search each
+        genome's novelty against the population and the archive, which then takes the most
+        novel; where F is ranked alone ("single"), the novelty column is NaN (not computed)
+        as G's is."""
+        told = evaluation.objectives
+        if mode == "multi" and self.config.second_objective == "simplicity":
+            told = told.copy()
+            told[:, 1] = [-flops_ratio(g) for g in genomes]
         k = self.config.novelty_neighbours
         if k is None:
-            return evaluation.objectives
+            return told
         if mode == "single":
-            unranked = np.full(len(evaluation.objectives), np.nan)
-            return np.column_stack([evaluation.objectives, unranked])
+            return np.column_stack([told, np.full(len(told), np.nan)])
         novelty = sparseness(evaluation.behaviour, self.archive, k)
         added = evaluation.behaviour[most_novel(novelty, self.config.novelty_archive_growth)]
         self.archive = np.concatenate([self.archive, added], axis=0)
-        return np.column_stack([evaluation.objectives, novelty])
+        return np.column_stack([told, novelty])
 
     def stage_of(self, generation: int) -> tuple[int, Mode, bool]:
         """(stage index, mode, is this the stage's last generation) of a generation."""
@@ -264,7 +276,7 @@ def _train(
             # history only and cost more than the simulation
             final = run.generation == total - 1
             evaluation = evaluator.evaluate(genomes, "all" if mode == "multi" or final else "best")
-            stats = run.evolution.tell(run.ranked_objectives(evaluation, mode), mode=mode)
+            stats = run.evolution.tell(run.ranked_objectives(evaluation, mode, genomes), mode=mode)
             if stage_end and mode == "multi":
                 # stage 1 -> 2: keep the Pareto set, then seed stage 2 from the best by F
                 write_json_atomic(paths.pareto, pareto_json(genomes, evaluation, stage))

@@ -1,0 +1,110 @@
+"""A study folder of ``scripts/study.sh``, read back: its runs by config, robot and framework,
+and its evaluations on the unseen bags and the benchmark's test split.
+
+Layout (``scripts/study.sh OUT``): ``OUT/<config>/<robot>-<framework>-s<seed>/`` (a run
+directory each), ``OUT/eval_unseen_<robot>.json`` (every best genome on ``bags/unseen/<robot>``,
+labelled ``<config>-<framework>-s<seed>``), optionally ``OUT/eval_unseen_<robot>_deployed.json``
+(the same, deployed, labels prefixed ``deployed-``), ``OUT/bench_<robot>/bench.json`` (the
+test split, deployed) and ``OUT/bench_<robot>_plain/bench.json`` (the networks alone).
+:func:`load_study` reads what is there; a run folder that is not finished is left out with a
+warning, a corrupt file is a FileFormatError naming it.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+from mentor_core.benchmark.document import load_bench
+from mentor_core.errors import FileFormatError
+from mentor_core.report.runs import EvalData, EvalRun, RunData, is_finished, load_eval, load_run
+
+ROBOTS = ("ugv", "swarm")
+FRAMEWORKS = ("single", "dual")
+_RUN_NAME = re.compile(r"^(ugv|swarm)-(single|dual)-s(\d+)$")
+
+
+@dataclass(frozen=True)
+class Study:
+    """The finished runs and evaluations of one study folder."""
+
+    root: Path
+    runs: Mapping[tuple[str, str, str], Sequence[RunData]]
+    """(config, robot, framework) -> its runs, by ascending seed."""
+    unseen: Mapping[str, EvalData]
+    """robot -> the plain evaluation on the unseen bags."""
+    unseen_deployed: Mapping[str, EvalData]
+    """robot -> the deployed evaluation on the unseen bags (where the study made one)."""
+    bench: Mapping[str, dict[str, Any]]
+    """robot -> the benchmark document of the test split (where the study made one)."""
+    bench_plain: Mapping[str, dict[str, Any]] = field(default_factory=dict)
+    """robot -> the same of the networks alone (where the study made one)."""
+
+    @property
+    def configs(self) -> list[str]:
+        """The configs studied, in name order."""
+        return sorted({c for c, _, _ in self.runs})
+
+    def group(self, config: str, robot: str, framework: str) -> Sequence[RunData]:
+        """The runs of one cell (empty when the study has none)."""
+        return self.runs.get((config, robot, framework), ())
+
+    def unseen_runs(self, config: str, robot: str, framework: str,
+                    deployed: bool = False) -> list[EvalRun]:  # fmt: skip
+        """The evaluations of one cell's genomes on the unseen bags, by ascending seed."""
+        data = (self.unseen_deployed if deployed else self.unseen).get(robot)
+        if data is None:
+            return []
+        prefix = f"{'deployed-' if deployed else ''}{config}-{framework}-s"
+        found = [(_seed(r.label, prefix), r) for r in data.runs if r.label.startswith(prefix)]
+        return [r for s, r in sorted(found, key=lambda x: x[0]) if s >= 0]
+
+
+def _seed(label: str, prefix: str) -> int:
+    rest = label[len(prefix):]
+    return int(rest) if rest.isdigit() else -1
+
+
+def load_study(root: str | Path, log: TextIO | None = None) -> Study:
+    """Read the study folder ``root`` (module docstring). FileFormatError when it holds no
+    finished run."""
+    stream = log if log is not None else sys.stderr
+    base = Path(root)
+    if not base.is_dir():
+        raise FileFormatError(base, "no such study folder")
+    runs: dict[tuple[str, str, str], list[RunData]] = {}
+    for config_dir in sorted(p for p in base.iterdir() if p.is_dir()):
+        for run_dir in sorted(config_dir.iterdir()):
+            match = _RUN_NAME.match(run_dir.name)
+            if not (run_dir.is_dir() and match):
+                continue
+            if not is_finished(run_dir):
+                print(f"mentor-report: warning: {run_dir}: unfinished run, left out",
+                      file=stream)  # fmt: skip
+                continue
+            run = load_run(run_dir)
+            runs.setdefault((config_dir.name, match[1], match[2]), []).append(run)
+    if not runs:
+        raise FileFormatError(base, "holds no finished run (<config>/<robot>-<framework>-s<seed>)")
+    for group in runs.values():
+        group.sort(key=lambda r: r.seed)
+    unseen = _evals(base, "eval_unseen_{}.json")
+    deployed = _evals(base, "eval_unseen_{}_deployed.json")
+    bench = _benches(base, "bench_{}")
+    return Study(base, runs, unseen, deployed, bench, _benches(base, "bench_{}_plain"))
+
+
+def _benches(base: Path, pattern: str) -> dict[str, dict[str, Any]]:
+    return {r: load_bench(p) for r in ROBOTS
+            if (p := base / pattern.format(r) / "bench.json").is_file()}  # fmt: skip
+
+
+def _evals(base: Path, pattern: str) -> dict[str, EvalData]:
+    return {r: load_eval(p) for r in ROBOTS if (p := base / pattern.format(r)).is_file()}
+
+
+__all__ = ["FRAMEWORKS", "ROBOTS", "Study", "load_study"]
