@@ -89,17 +89,18 @@ def test_the_run_ranks_novelty_against_the_population_and_a_growing_archive() ->
     config = _novelty_config()
     problem = make_problem(config)
     run = _Run(config, 1, problem)
-    evaluation = InProcessEvaluator(problem).evaluate(run.evolution.ask())
-    ranked = run.ranked_objectives(evaluation, "multi")
+    genomes = run.evolution.ask()
+    evaluation = InProcessEvaluator(problem).evaluate(genomes)
+    ranked = run.ranked_objectives(evaluation, "multi", genomes)
     expected = sparseness(evaluation.behaviour, np.zeros((0, 6)), 3)
     assert np.array_equal(ranked[:, :2], evaluation.objectives)
     assert np.array_equal(ranked[:, 2], expected)
     assert np.array_equal(run.archive, evaluation.behaviour[most_novel(expected, 2)])
-    ranked = run.ranked_objectives(evaluation, "multi")  # the archive now holds two of them
+    ranked = run.ranked_objectives(evaluation, "multi", genomes)  # the archive holds two
     assert np.array_equal(ranked[:, 2], sparseness(evaluation.behaviour, run.archive[:2], 3))
     assert len(run.archive) == 4
     # where F is ranked alone, novelty is neither computed nor archived
-    ranked = run.ranked_objectives(evaluation, "single")
+    ranked = run.ranked_objectives(evaluation, "single", genomes)
     assert np.isnan(ranked[:, 2]).all() and len(run.archive) == 4
 
 

@@ -19,7 +19,8 @@ from mentor_core.evolution.genome import Genome, minimal_genome
 from mentor_core.evolution.innovation import InnovationTracker
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata, save_genome
-from mentor_core.runtime.planner import DecisionGate, GenomePlanner, planner_profile
+from mentor_core.runtime.decision_gate import DecisionGate
+from mentor_core.runtime.planner import GenomePlanner, planner_profile
 from mentor_core.sim import observation
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import RobotProfile, get_profile

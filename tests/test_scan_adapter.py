@@ -84,6 +84,30 @@ def test_rep117_values() -> None:
     assert math.isinf(reading(0.9, range_max=1.0))  # a return beyond the sensor's 0.6 m
 
 
+def test_invalid_ranges_are_unknown_never_free() -> None:
+    """NaN, 0.0 below range_min and ranges beyond range_max are no return; a sensor that then
+    reads nothing is unknown, not free; infinities are valid (REP-117); issue 56, point 2."""
+    n = 360
+    inc = 2 * math.pi / n
+
+    def read(ranges: np.ndarray, range_min: float = 0.12) -> tuple[tuple[int, ...], float]:
+        got = readings_from_scan(LaserScanData(-math.pi, inc, range_min, 3.5, ranges),
+                                 LidarMount(), UGV)  # fmt: skip
+        return got.unknown_sensors, got.valid_share
+
+    every = tuple(range(UGV.n_sensors))
+    assert read(np.full(n, np.nan)) == (every, 0.0)
+    assert read(np.zeros(n)) == (every, 0.0)  # 0.0, below range_min: no measurement
+    assert read(np.full(n, np.inf)) == ((), 1.0)  # nothing within range_max: free
+    alternating = np.where(np.arange(n) % 2 == 0, np.inf, -np.inf)
+    assert read(alternating) == ((), 1.0)  # -inf: an object too near, read at range_min
+    dropout = _wall_scan(1.0, n, range_max=3.5).ranges.copy()
+    dropout[:90] = np.nan  # the rear quarter (angles -180 to -90 deg) reads nothing valid
+    unknown, share = read(dropout)
+    assert share == pytest.approx(0.75)
+    assert unknown and 0 not in unknown and 1 not in unknown  # the front still sees the wall
+
+
 def test_the_lidars_mount_is_taken_into_account() -> None:
     world = World(6.0)  # flat walls: every single ray reads exactly what the simulator reads
     pose = (2.0, 2.5, 0.4)

@@ -92,8 +92,10 @@ def _declarations() -> list[tuple[str, Any, Any]]:
         ),
         (
             "sync_tolerance",
-            0.05,
-            _descriptor("s, largest stamp gap of a scan and the odometry used", low=0.0),
+            0.1,
+            _descriptor("s a scan's stamp may lie past the newest (or before the oldest) "
+                        "odometry and take its pose; between two, the pose is interpolated",
+                        low=0.0),
         ),
         (
             "goal_radius",

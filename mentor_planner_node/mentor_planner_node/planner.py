@@ -8,11 +8,14 @@ namespace, and the arena (``/mentor/obstacles``), and publishes
 installed, else the ``lidar_mount`` parameter); goals may come in any frame it can link to its
 odometry frame (:class:`mentor_core.PlannerFrames`), and one outside the arena is refused.
 
-It answers every new observation (a scan and an odometry with the same stamp) with one
-``cmd_vel`` (lockstep), or decides every control period with the latest one
-(``decide_on_timer``, for a simulator or robot that runs continuously), sending its latest
-``cmd_vel`` again at ``repeat_rate`` in between, as bases that stop on a quiet ``cmd_vel``
-need. The decision is
+It answers every new scan, with the pose at the scan's stamp from the odometry before and
+after it (:class:`mentor_core.DecisionGate`), with one ``cmd_vel`` (lockstep), or decides every
+control period with the latest one (``decide_on_timer``, for a simulator or robot that runs
+continuously), sending its latest ``cmd_vel`` again at ``repeat_rate`` in between, as bases that
+stop on a quiet ``cmd_vel`` need, but a zero Twist at once when the scans or the odometry have
+stopped coming (each judged by its own pace). A scan it cannot read (invalid ranges where a
+sensor would read nothing, or too few valid ranges: unknown, never free) or an odometry that
+is not finite stops the robot at once, with a line saying why. The decision is
 :class:`mentor_core.GenomePlanner`, the trainer's own input and output functions; when to
 decide, when the goal is reached and when data is stale is :class:`mentor_core.DecisionGate`;
 a planner with a memory is reset at the first observation of each new goal or episode.
@@ -56,6 +59,7 @@ from mentor_core import (
     PlannerFrames,
     Transform2D,
     bounds_fault,
+    readings_fault,
     readings_from_scan,
 )
 from mentor_planner_node import conversions, global_plan
@@ -212,15 +216,17 @@ class PlannerNode(Node):
         kind = self.params.scan_kind
         if kind == "auto":
             kind = "sensors" if conversions.is_profile_scan(msg, self.profile) else "lidar"
+        now = self._steady_ns()
         try:
             if kind == "sensors":
                 ranges = conversions.ranges_from_scan(msg, self.profile)
             else:
                 ranges = self._lidar_readings(msg)
         except (ValueError, LookupError) as err:
-            self._warn(f"scan rejected: {err}")
+            self.gate.refuse_scan(now)  # nothing is decided on an older scan
+            self._stop(f"scan refused: {err}")
             return
-        self.gate.on_scan(conversions.ns_from_stamp(msg.header.stamp), ranges)
+        self.gate.on_scan(conversions.ns_from_stamp(msg.header.stamp), ranges, now)
         if self._decide_timer is None:
             self._answer()
 
@@ -233,16 +239,20 @@ class PlannerNode(Node):
         if read.uncovered:
             self._warn(f"sensors {list(read.uncovered)} lie outside the scan's field of view: "
                        "they read nothing in range")
+        fault = readings_fault(read)
+        if fault:
+            raise ValueError(fault)
         return read.readings
 
     def _on_odom(self, msg: Odometry) -> None:
         try:
             pose = conversions.pose_from_odometry(msg)
         except ValueError as err:
-            self._warn(f"odometry rejected: {err}")
+            self._stop(f"odometry refused: {err}")
             return
         self.frames.on_odometry(msg.header.frame_id, msg.child_frame_id, pose)
-        self.gate.on_odometry(conversions.ns_from_stamp(msg.header.stamp), pose)
+        self.gate.on_odometry(conversions.ns_from_stamp(msg.header.stamp), pose,
+                              self._steady_ns())  # fmt: skip
         if self._decide_timer is None:
             self._answer()
 
@@ -336,21 +346,37 @@ class PlannerNode(Node):
         if reason is not None and self.global_plan is not None and not self.global_plan.ready:
             reason = self.global_plan.waiting_for()
         if reason is not None:
-            self._send_zero(reason)
+            self._send(Twist())
+            self.zero_commands += 1
+            # its own call site: rclpy throttles each call site apart, so a flood of other
+            # warnings never hides why the robot stopped
+            self.get_logger().warning(f"watchdog: {reason}: sending a zero Twist",
+                                      throttle_duration_sec=WARN_EVERY_S)  # fmt: skip
 
     def _send(self, twist: Twist) -> None:
         self._cmd_pub.publish(twist)
         self._last_cmd = twist
 
     def _repeat(self) -> None:
-        if self._last_cmd is not None:
-            self._cmd_pub.publish(self._last_cmd)
-            self.repeats += 1
+        if self._last_cmd is None:
+            return
+        stale = self.gate.stale(self._steady_ns())
+        if stale is not None and self._last_cmd != Twist():
+            self._stop(stale)  # never the last command again on data that stopped coming
+            return
+        self._cmd_pub.publish(self._last_cmd)
+        self.repeats += 1
 
     def _send_zero(self, reason: str) -> None:
         self._send(Twist())
         self.zero_commands += 1
         self._warn(f"{reason}: sending a zero Twist")
+
+    def _stop(self, reason: str) -> None:
+        """A zero Twist at once, with a line of its own (throttled apart from other lines)."""
+        self._send(Twist())
+        self.zero_commands += 1
+        self.get_logger().warning(f"{reason}: stopping", throttle_duration_sec=WARN_EVERY_S)
 
 
 def main(args: list[str] | None = None) -> None:

@@ -181,6 +181,9 @@ if TYPE_CHECKING:
 
     # report
     from mentor_core.report.markdown import write_report as write_report
+    from mentor_core.runtime.decision_gate import (
+        DecisionGate as DecisionGate,
+    )
     from mentor_core.runtime.goal_intake import (
         Bounds as Bounds,
     )
@@ -204,9 +207,6 @@ if TYPE_CHECKING:
     )
     from mentor_core.runtime.lockstep import (
         LatestCommands as LatestCommands,
-    )
-    from mentor_core.runtime.planner import (
-        DecisionGate as DecisionGate,
     )
 
     # runtime
@@ -336,6 +336,9 @@ if TYPE_CHECKING:
     )
     from mentor_core.sim.scan_adapter import (
         ScanReadings as ScanReadings,
+    )
+    from mentor_core.sim.scan_adapter import (
+        readings_fault as readings_fault,
     )
     from mentor_core.sim.scan_adapter import (
         readings_from_scan as readings_from_scan,

@@ -5,48 +5,17 @@
 of its deployment (:func:`deployed_genome`), and its Twist
 (:func:`mentor_core.sim.observation.twist_from_action`). The planner node calls nothing else.
 
-:class:`DecisionGate` is the planner node's bookkeeping, kept here so that it is tested
-without a ROS graph. The node feeds it every scan, odometry, goal and episode event with its
-stamp (ns, sim time) and asks it
-
-* :meth:`DecisionGate.take`: a new observation to answer, once per pair of latest scan and
-  latest odometry whose stamps lie within ``sync_tolerance`` of each other and whose stamp
-  differs from the last one answered (a repeated observation is answered only once; a clock
-  that jumps back, as when the simulator restarts, is followed), or whose goal differs from
-  the one it was answered with (a new goal is a new question);
-* :meth:`DecisionGate.watchdog`: once per control period, whether the planner has gone
-  ``stale_after`` without answering (missing or stale data); the node then sends a zero
-  Twist and a throttled warning. The node's times are its steady clock's, so the watchdog
-  fires when sim time stops;
-* :meth:`DecisionGate.arrived`: the robot stands within the goal radius of its goal (the
-  goal is then done and dropped, as a navigation stack's goal checker does).
+The planner node's bookkeeping of when to decide is
+:class:`~mentor_core.runtime.decision_gate.DecisionGate`.
 
 A planner with a context (a memory of its previous outputs, ``RobotProfile.n_context``) or
 a recurrent network (recurrent connection genes: its previous node values) decides from what
-it decided before: :meth:`GenomePlanner.reset` starts it blank, and the
-gate marks the first observation it answers for a new goal or a new episode
-(:attr:`Observation.new_goal`) so that the node resets the planner there, as each episode of
-training starts blank. An observation is answered once, so a repeated one (lockstep resends)
-never advances the memory twice.
-
-Goals: a goal within :data:`~mentor_core.runtime.goal_intake.SAME_GOAL` m of the current one
-is the same goal (the simulator's ``started`` event and a goal topic may carry one goal through
-different frames).
-
-Episode events (optional; a planner fed by something other than the simulator never gets
-any): after an end event (reached, collided, timed out) the robot no longer drives and its goal
-is done, so the gate answers nothing and the watchdog stays quiet until the next ``started``
-event, which may carry the new goal. The simulator publishes the next episode's ``started``
-event before its first observation, and the planner node handles events before observations
-(its events subscription comes first), so an observation of a new episode is never answered
-with the previous episode's goal, whatever order the goal topic and the observations arrive
-in.
+it decided before: :meth:`GenomePlanner.reset` starts it blank.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -60,7 +29,6 @@ from mentor_core.errors import ConfigError, short_repr
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
-from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.sim import observation
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import (
@@ -72,9 +40,6 @@ from mentor_core.sim.robots import (
 )
 
 FloatArray = NDArray[np.float64]
-Pose = tuple[float, float, float]
-_NS_PER_S = 1_000_000_000
-_END_EVENTS = frozenset({"reached", "collided", "timed_out"})
 _ONE = np.zeros(1, dtype=np.int64)  # the one robot of a planner's decision chain
 
 
@@ -238,154 +203,3 @@ class GenomePlanner:
         period = self.profile.control_period if dt is None else dt
         angular_z, linear_x = observation.twist_from_action(dtheta, ds, period)
         return float(linear_x), float(angular_z)
-
-
-@dataclass(frozen=True)
-class Observation:
-    """What the planner answers: stamp (ns) of the scan, readings, pose and goal (None when
-    no goal has been received); ``new_goal``: the first observation answered since a new goal
-    or a ``started`` event (a planner with a memory starts blank on it); ``new_episode``:
-    the first since a ``started`` event (a new episode, perhaps in another world)."""
-
-    stamp_ns: int
-    ranges: FloatArray
-    pose: Pose
-    goal: tuple[float, float] | None
-    new_goal: bool = False
-    new_episode: bool = False
-
-
-class DecisionGate:
-    """When the planner node decides, and when its data is stale (module docstring).
-
-    Message stamps (sim time of the scan and odometry) decide which observation is new;
-    node times (the node's steady clock when a message is handled) drive the watchdog, so the
-    two time bases never mix.
-
-    Args:
-        stale_after: s (node time) without an answered observation after which the
-            watchdog fires; larger than the control period.
-        sync_tolerance: s, largest stamp difference of a scan and the odometry used with it.
-    """
-
-    def __init__(self, stale_after: float, sync_tolerance: float) -> None:
-        if not (np.isfinite(stale_after) and stale_after > 0.0):
-            raise ValueError(f"stale_after must be positive, got {stale_after}")
-        if not (np.isfinite(sync_tolerance) and sync_tolerance >= 0.0):
-            raise ValueError(f"sync_tolerance must be >= 0, got {sync_tolerance}")
-        self.stale_after_ns = round(stale_after * _NS_PER_S)
-        self.sync_tolerance_ns = round(sync_tolerance * _NS_PER_S)
-        self._scan: tuple[int, FloatArray] | None = None
-        self._odom: tuple[int, Pose] | None = None
-        self._goal: tuple[float, float] | None = None
-        self._answered_stamp: int | None = None  # stamp of the last observation answered
-        self._answered_goal: tuple[float, float] | None = None  # the goal it was answered with
-        self._answered_at: int | None = None  # node time of that answer
-        self._since: int | None = None  # node time the watchdog counts from before an answer
-        self._idle = False
-        self._new_goal = False  # no observation answered since a new goal or episode
-        self._new_episode = False  # no observation answered since a started event
-
-    @property
-    def idle(self) -> bool:
-        """The robot's episode has ended (no ``started`` event since)."""
-        return self._idle
-
-    def on_scan(self, stamp_ns: int, ranges: ArrayLike) -> None:
-        """The latest scan (readings checked by the caller), stamped ``stamp_ns``."""
-        self._scan = (int(stamp_ns), np.asarray(ranges, dtype=np.float64).copy())
-
-    def on_odometry(self, stamp_ns: int, pose: Pose) -> None:
-        """The latest odometry pose, stamped ``stamp_ns``."""
-        self._odom = (int(stamp_ns), (float(pose[0]), float(pose[1]), float(pose[2])))
-
-    @property
-    def goal(self) -> tuple[float, float] | None:
-        """The goal being driven to (None: none)."""
-        return self._goal
-
-    def on_goal(self, goal: tuple[float, float]) -> bool:
-        """A goal (x, y) in the frame the planner decides in; False when it is the goal
-        already held."""
-        new = (float(goal[0]), float(goal[1]))
-        if same_goal(self._goal, new):
-            return False
-        self._goal = new
-        self._new_goal = True
-        return True
-
-    def arrived(self, pose: Pose, radius: float) -> bool:
-        """The robot at ``pose`` stands within ``radius`` (m) of its goal; the goal is then
-        dropped (nothing is answered until another comes)."""
-        if self._goal is None:
-            return False
-        if np.hypot(pose[0] - self._goal[0], pose[1] - self._goal[1]) > radius:
-            return False
-        self._goal = None
-        return True
-
-    def on_event(
-        self, kind: str, now_ns: int, goal: tuple[float, float] | None = None
-    ) -> None:
-        """An episode event of this robot, handled at node time ``now_ns``; a ``started``
-        event may carry the episode's goal (x, y)."""
-        if kind in _END_EVENTS:
-            self._idle = True
-            self._goal = None
-        elif kind == "started":
-            self._idle = False
-            self._new_goal = True  # a new episode, even towards the goal held
-            self._new_episode = True
-            self._since = int(now_ns)
-            self._answered_at = None
-            if goal is not None:
-                self.on_goal(goal)
-
-    def take(self, now_ns: int) -> Observation | None:
-        """The next observation to answer at node time ``now_ns``, or None (nothing new, no
-        goal yet, scan and odometry not in step, or the episode has ended). Taking it marks
-        it answered."""
-        if self._idle or self._scan is None or self._odom is None or self._goal is None:
-            return None
-        scan_ns, ranges = self._scan
-        odom_ns, pose = self._odom
-        if abs(scan_ns - odom_ns) > self.sync_tolerance_ns:
-            return None
-        stamp = max(scan_ns, odom_ns)
-        if stamp == self._answered_stamp and self._goal == self._answered_goal:
-            return None
-        self._answered_stamp = stamp
-        self._answered_goal = self._goal
-        self._answered_at = int(now_ns)
-        new_goal, self._new_goal = self._new_goal, False
-        new_episode, self._new_episode = self._new_episode, False
-        return Observation(stamp, ranges.copy(), pose, self._goal, new_goal, new_episode)
-
-    def watchdog(self, now_ns: int) -> str | None:
-        """Why the planner should send a zero Twist at node time ``now_ns`` (one line), or None.
-
-        Quiet while idle. Otherwise it fires when the last answer (or, before any, the first
-        watchdog call or the last ``started`` event) lies more than ``stale_after`` back.
-        """
-        if self._since is None:
-            self._since = int(now_ns)
-        if self._idle:
-            return None
-        ref = self._answered_at if self._answered_at is not None else self._since
-        age = now_ns - ref
-        if age <= self.stale_after_ns:
-            return None
-        missing = [
-            what
-            for what, value in (
-                ("scan", self._scan), ("odometry", self._odom), ("goal", self._goal)
-            )
-            if value is None
-        ]
-        if missing:
-            return f"no {', '.join(missing)} received"
-        assert self._scan is not None and self._odom is not None
-        gap = abs(self._scan[0] - self._odom[0])
-        if gap > self.sync_tolerance_ns:
-            return f"scan and odometry stamps differ by {gap / _NS_PER_S:.3f} s"
-        return f"no new scan and odometry for {age / _NS_PER_S:.3f} s"

@@ -28,6 +28,12 @@ A sensor whose field no ray of the scan points into (seen from the lidar) is not
 lidar of less than 360 deg cannot see behind; its reading is then ``+inf``, and
 :class:`ScanReadings` says so, so that the planner can warn.
 
+Invalid ranges (NaN, and finite ranges outside ``[range_min, range_max]``, such as the 0.0 some
+drivers send for no measurement) are unknown, never free: a sensor that reads nothing (``+inf``)
+while a ray into its field is invalid is *unknown*, and :class:`ScanReadings` says so, as it
+says how many of the scan's rays are valid (:attr:`ScanReadings.valid_share`); the planner
+then refuses the scan rather than drive into what it could not see.
+
 Error against the profile's own readings: what a derived reading can miss is finer than the
 scan's increment ``da``: a flat surface is read exactly (float32 rounding aside), a curved
 one or a corner within ``r da`` at range ``r``; a ray grazing an obstacle's edge within an
@@ -94,11 +100,20 @@ class LidarMount:
 
 @dataclass(frozen=True)
 class ScanReadings:
-    """Readings (m, profile order, ``+inf`` when nothing in range) and which sensors the scan
-    covers (some ray points into the field of view)."""
+    """Readings (m, profile order, ``+inf`` when nothing in range), which sensors the scan
+    covers (some ray points into the field of view), which read nothing only because a ray
+    into their field is invalid (``unknown``), and the share of the scan's rays that are valid
+    (REP-117: a finite range within the limits, or an infinity)."""
 
     readings: FloatArray
     covered: NDArray[np.bool_]
+    unknown: NDArray[np.bool_] | None = None
+    valid_share: float = 1.0
+
+    @property
+    def unknown_sensors(self) -> tuple[int, ...]:
+        """Indices of the sensors whose reading is unknown (module docstring)."""
+        return () if self.unknown is None else tuple(int(i) for i in np.flatnonzero(self.unknown))
 
     @property
     def uncovered(self) -> tuple[int, ...]:
@@ -106,15 +121,45 @@ class ScanReadings:
         return tuple(int(i) for i in np.flatnonzero(~self.covered))
 
 
+#: the least share of a scan's rays that must be valid for a planner to read it
+MIN_VALID_SHARE = 0.5
+
+
+def readings_fault(read: ScanReadings) -> str:
+    """Why a planner must not decide on ``read`` (one line), or "" (module docstring): some
+    sensor is unknown, or fewer than :data:`MIN_VALID_SHARE` of the rays are valid."""
+    if read.valid_share < MIN_VALID_SHARE:
+        return (f"only {read.valid_share:.0%} of the scan's ranges are valid (NaN, or outside "
+                f"[range_min, range_max]; at least {MIN_VALID_SHARE:.0%} needed)")  # fmt: skip
+    if read.unknown_sensors:
+        return (f"sensors {list(read.unknown_sensors)} see only invalid ranges (NaN, or outside "
+                "[range_min, range_max]): unknown, not free")  # fmt: skip
+    return ""
+
+
 def scan_returns(scan: LaserScanData) -> tuple[FloatArray, FloatArray]:
     """The returns of a scan (module docstring, step 1): their angles and ranges (rad, m)."""
     r = scan.ranges
-    with np.errstate(invalid="ignore"):
-        valid = np.isfinite(r) & (r >= scan.range_min) & (r <= scan.range_max)
+    valid = _in_limits(scan)
     near = np.isneginf(r)
     keep = valid | near
     dist = np.where(near, scan.range_min, r)[keep]
     return scan.angles[keep], dist
+
+
+def _in_limits(scan: LaserScanData) -> NDArray[np.bool_]:
+    """The finite ranges within ``[range_min, range_max]``."""
+    r = scan.ranges
+    with np.errstate(invalid="ignore"):
+        out: NDArray[np.bool_] = np.isfinite(r) & (r >= scan.range_min) & (r <= scan.range_max)
+    return out
+
+
+def valid_ranges(scan: LaserScanData) -> NDArray[np.bool_]:
+    """The scan's valid rays (REP-117): a finite range within the limits, or an infinity
+    (``-inf``: an object too near, ``+inf``: nothing within ``range_max``)."""
+    out: NDArray[np.bool_] = _in_limits(scan) | np.isinf(scan.ranges)
+    return out
 
 
 def body_directions(angles: ArrayLike, mount: LidarMount) -> FloatArray:
@@ -234,9 +279,13 @@ def readings_from_scan(
     # lidar's origin
     rays = body_directions(scan.angles, mount)
     off = np.abs(_wrapped(rays[None, :] - mounts[:, 2, None]))
-    reach = half[:, None] + abs(scan.angle_increment) + _EDGE
-    covered = (off <= reach).any(axis=1)
-    return ScanReadings(readings.astype(np.float64), np.asarray(covered, dtype=np.bool_))
+    reach = off <= half[:, None] + abs(scan.angle_increment) + _EDGE
+    covered = reach.any(axis=1)
+    valid = valid_ranges(scan)
+    unknown = np.isinf(readings) & (reach & ~valid[None, :]).any(axis=1)
+    share = float(valid.mean()) if valid.size else 0.0
+    return ScanReadings(readings.astype(np.float64), np.asarray(covered, dtype=np.bool_),
+                        np.asarray(unknown, dtype=np.bool_), share)  # fmt: skip
 
 
 def _closed(scan: LaserScanData) -> bool:
