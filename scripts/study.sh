@@ -18,10 +18,11 @@
 # deployment; "" for the plain rows only), and the unseen bags are scored a second time that
 # way (eval_unseen_<robot>_deployed.json, the runs labelled "deployed-..."); the networks
 # alone are benched too (bench_<robot>_plain, no baselines). Last, the report of everything
-# (OUT/report) and the paper's results side by side (OUT/reproduction.md, mentor-report
+# (OUT/report) and the paper's results side by side (OUT/report/reproduction.md, mentor-report
 # --paper; docs/reproduction.md is that page of the study in benchmarks/RESULTS.md).
-# Issue 55's study: scripts/study.sh out/study "1 2 3 4 5" 2 \
-#   "original paper benchmarks/configs/simplicity:dual"
+# Issue 55's study (benchmarks/RESULTS.md, "The paper side by side"): STUDY_PAIRS=0
+#   scripts/study.sh out/study "1 2 3 4 5" 2 "original paper benchmarks/configs/simplicity:dual"
+#   then benchmarks/tools/g_ablation.py out/study --bench for the test split.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/bootstrap.sh"
@@ -31,7 +32,7 @@ OUT="${1:-$ROOT/out/study}"
 SEEDS="${2:-1 2 3}"
 JOBS="${3:-2}"
 CONFIGS="${4:-original paper}"
-PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family
+PAIRS="${STUDY_PAIRS:-40}"  # benchmark pairs per family; 0: no benchmark (runs and bags only)
 read -r -a BENCH_FLAGS <<< "${STUDY_BENCH_FLAGS---deployment shipped}"
 BIN="$ROOT/.venv/bin"
 mkdir -p "$OUT"
@@ -74,6 +75,7 @@ for robot in ugv swarm; do
       > "$OUT/eval_unseen_${robot}_deployed.txt"
     extra+=(--eval "$OUT/eval_unseen_${robot}_deployed.json")
   fi
+  [ "$PAIRS" -gt 0 ] || continue
   rm -rf "$OUT/bench_$robot"
   "$BIN/mentor-bench" "${genomes[@]}" "${labels[@]}" --robot "$robot" --split test \
     --pairs-per-family "$PAIRS" "${BENCH_FLAGS[@]}" --workers "$JOBS" --out "$OUT/bench_$robot" \
@@ -87,5 +89,6 @@ for robot in ugv swarm; do
   fi
 done
 "$BIN/mentor-report" "${runs[@]}" "${extra[@]}" --out "$OUT/report" --force
-"$BIN/mentor-report" --paper "$OUT" --out "$OUT/reproduction.md" --force
-echo "study: report at $OUT/report/report.md, the paper side by side at $OUT/reproduction.md" >&2
+"$BIN/mentor-report" --paper "$OUT" --out "$OUT/report/reproduction.md" --force
+echo "study: report at $OUT/report/report.md, the paper side by side at" \
+  "$OUT/report/reproduction.md" >&2

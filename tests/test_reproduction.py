@@ -13,7 +13,7 @@ from test_report import _assert_png, make_eval, make_run
 from mentor_core.cli.report import main as report_main
 from mentor_core.errors import FileFormatError
 from mentor_core.report.paper_claims import CLAIMS, Claim
-from mentor_core.report.reproduction import PAGE_TITLE, write_reproduction
+from mentor_core.report.reproduction import PAGE_TITLE, compared_configs, write_reproduction
 from mentor_core.report.significance import compare, directed_verdict
 from mentor_core.report.study import load_study
 
@@ -119,6 +119,19 @@ def test_the_page_holds_every_claim_and_links_figures_that_exist(tmp_path: Path)
         _assert_png(page.parent / link)
 
 
+def test_a_config_trained_in_one_framework_has_no_column(tmp_path: Path) -> None:
+    study = make_study(tmp_path / "study")
+    make_run(study / "simplicity", "ugv-dual-s1", framework="dual", seed=1)
+    make_run(study / "simplicity", "ugv-dual-s2", framework="dual", seed=2)
+    loaded = load_study(study)
+    assert loaded.configs == ["original", "simplicity"]
+    assert compared_configs(loaded) == ["original"]
+    text = write_reproduction(study, tmp_path / "page.md").read_text(encoding="utf-8")
+    claims = text.split("## Every claim")[1].split("\n## ")[0]
+    assert "`original`" in claims and "`simplicity`" not in claims
+    assert "| `simplicity` | UGV | dual | 1, 2 |" in text  # listed with the study's runs
+
+
 def test_cli_writes_the_page_and_refuses_what_it_cannot_do(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -131,6 +144,13 @@ def test_cli_writes_the_page_and_refuses_what_it_cannot_do(
     assert "already exists" in capsys.readouterr().err
     assert page.read_bytes() == before
     assert report_main(["--paper", str(study), "--out", str(page), "--force"]) == 0
+    capsys.readouterr()
+    # inside the study folder, beside its runs (as scripts/study.sh writes it): yes; inside a
+    # run directory, an input: no
+    inside = study / "report" / "reproduction.md"
+    assert report_main(["--paper", str(study), "--out", str(inside)]) == 0 and inside.is_file()
+    run = study / "original" / "ugv-dual-s1" / "page.md"
+    assert report_main(["--paper", str(study), "--out", str(run)]) == 2 and not run.exists()
     capsys.readouterr()
     empty = tmp_path / "empty"
     empty.mkdir()

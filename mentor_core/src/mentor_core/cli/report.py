@@ -32,6 +32,7 @@ from mentor_core.cli.outputs import check_file, check_folder
 from mentor_core.errors import MentorError
 from mentor_core.report.markdown import write_report
 from mentor_core.report.reproduction import write_reproduction
+from mentor_core.report.study import study_inputs
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -86,8 +87,9 @@ def main(argv: list[str] | None = None) -> int:
     matplotlib.use("Agg")  # no display needed; the report draws on the Agg canvas only
     if args.paper is not None:
         try:
-            check_file("--out", args.out, [args.paper], args.force)
-            check_folder("--out", args.out.with_suffix(""), [args.paper], args.force)
+            inputs = study_inputs(args.paper)
+            check_file("--out", args.out, inputs, args.force)
+            check_folder("--out", args.out.with_suffix(""), inputs, args.force)
             page = write_reproduction(args.paper, args.out)
         except (MentorError, OSError) as err:
             return fail("mentor-report", err)

@@ -299,13 +299,15 @@ def _unseen_setting(study: Study, config: str) -> Finding:
         if data is None:
             continue
         parts.append(f"{ROBOT_NAMES[robot]}: {data.world_size:g} m, {len(data.starts)} pairs, "
-                     f"goal within {data.goal_radius:g} m, {data.time_limit:g} s")  # fmt: skip
+                     f"goal within {data.goal_radius:.2g} m, {data.time_limit:g} s")  # fmt: skip
         ok &= (data.world_size, len(data.starts), data.goal_radius, data.time_limit) == (
             side, 10, 1.0, 50.0)
     if not parts:
         return Finding("-", "cannot be tested", "no evaluation on the unseen bags")
     return Finding("; ".join(parts), "holds" if ok else "fails",
-                   "the bags' own worlds (bags/unseen), the same for every config")
+                   "the bags' own worlds (bags/unseen), the same for every config; a goal "
+                   "radius other than 1 m is the robot file's (the Swarm-Robot's scales with "
+                   "its 4 m world)")
 
 
 def _unseen(

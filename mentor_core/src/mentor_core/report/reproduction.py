@@ -17,6 +17,7 @@ from typing import TextIO
 from matplotlib.figure import Figure
 
 from mentor_core.atomic import write_bytes_atomic, write_text_atomic
+from mentor_core.errors import FileFormatError
 from mentor_core.report.figures import _png
 from mentor_core.report.paper_claims import CLAIMS, ROBOT_NAMES, SETTLING
 from mentor_core.report.paper_figures import (
@@ -38,11 +39,15 @@ def write_reproduction(study_dir: str | Path, page: str | Path, log: TextIO | No
     """Write the reproduction page of ``study_dir`` to ``page`` and its figures into the
     folder ``page``'s stem names beside it. Returns the page's path."""
     study = load_study(study_dir, log)
+    configs = compared_configs(study)
+    if not configs:
+        raise FileFormatError(study.root, "holds no config trained in both frameworks")
     page_path = Path(page)
     figures = page_path.with_suffix("")
     figures.mkdir(parents=True, exist_ok=True)
-    links = _draw(study, figures)
-    lines = [PAGE_TITLE, "", *_preamble(study), *_claims_table(study), *_cells(study)]
+    links = _draw(study, configs, figures)
+    lines = [PAGE_TITLE, "", *_preamble(study, configs), *_claims_table(study, configs),
+             *_cells(study)]  # fmt: skip
     lines += ["## The figures in the paper's layout", ""]
     for caption, name in links:
         lines += [f"### {caption}", "", f"![{caption}]({figures.name}/{name})", ""]
@@ -51,40 +56,48 @@ def write_reproduction(study_dir: str | Path, page: str | Path, log: TextIO | No
     return page_path
 
 
-def _preamble(study: Study) -> list[str]:
+def compared_configs(study: Study) -> list[str]:
+    """The configs of ``study`` trained in both frameworks for some robot: the paper compares
+    the two stages, so a config trained in one (an ablation arm) has no column."""
+    return [c for c in study.configs
+            if any(study.group(c, r, "single") and study.group(c, r, "dual") for r in ROBOTS)]
+
+
+def _preamble(study: Study, configs: list[str]) -> list[str]:
     seeds = sorted({r.seed for group in study.runs.values() for r in group})
     return [
-        "Written by `mentor-report --paper STUDY --out docs/reproduction.md` from a study of "
-        "`scripts/study.sh STUDY \"" + " ".join(map(str, seeds)) + "\" 2 \"" +
-        " ".join(study.configs) + "\"`; do not edit it by hand. Each row is one result the "
-        "paper states in Sections IV-V, its figure or table, and this implementation's "
+        "Written by `mentor-report --paper STUDY --out docs/reproduction.md` from a "
+        f"`scripts/study.sh` folder (configs {', '.join(f'`{c}`' for c in configs)}; seeds "
+        f"{', '.join(map(str, seeds))}; its command and time: `benchmarks/RESULTS.md`, \"The "
+        "paper side by side\"); do not edit it by hand. Each row is one result the paper "
+        "states in Sections IV-V, its figure or table, and this implementation's "
         "numbers under each config: mean ± sample sd over the seeds. Where the paper compares "
         "two groups, the seeds are compared with the two-sided Mann-Whitney U test (p < 0.05 "
         "to hold or fail; otherwise *not shown*). `original` is the paper's own settings "
         "(Table I, its inputs and actions, the choices the paper leaves open made in "
         "`docs/algorithm.md`); `paper` is the shipped configs, which depart from it to learn "
-        f"(`docs/algorithm.md`, Departures). Niche shares are judged from generation "
+        f"(`docs/departures.md`). Niche shares are judged from generation "
         f"{SETTLING} on: every run starts as one species.",
         "",
     ]
 
 
-def _claims_table(study: Study) -> list[str]:
+def _claims_table(study: Study, configs: list[str]) -> list[str]:
     header = ["where", "robot", "the paper"]
-    for config in study.configs:
+    for config in configs:
         header += [f"`{config}`", "verdict"]
     rows, notes = [], []
     for k, claim in enumerate(CLAIMS, start=1):
         row = [claim.where, ROBOT_NAMES.get(claim.robot, claim.robot), claim.paper]
         whys: dict[str, list[str]] = {}
-        for config in study.configs:
+        for config in configs:
             finding = claim.check(study, config)
             row += [finding.text, f"**{finding.verdict}**"]
             if finding.why:
                 whys.setdefault(finding.why, []).append(f"`{config}`")
         rows.append(row)
-        for why, configs in whys.items():
-            scope = "" if len(configs) == len(study.configs) else " (" + ", ".join(configs) + ")"
+        for why, names in whys.items():
+            scope = "" if len(names) == len(configs) else " (" + ", ".join(names) + ")"
             notes.append(f"{k}{scope}: {why}")
     numbered = [[str(k), *r] for k, r in enumerate(rows, start=1)]
     lines = ["## Every claim", "", *_md_table(["#", *header], numbered)]
@@ -109,7 +122,7 @@ def _cells(study: Study) -> list[str]:
     return ["## The study", "", *_md_table(header, rows)]
 
 
-def _draw(study: Study, folder: Path) -> list[tuple[str, str]]:
+def _draw(study: Study, configs: list[str], folder: Path) -> list[tuple[str, str]]:
     """Draw every figure into ``folder``; (caption, file name) of each."""
     links: list[tuple[str, str]] = []
 
@@ -121,12 +134,12 @@ def _draw(study: Study, folder: Path) -> list[tuple[str, str]]:
     for robot in ROBOTS:
         pareto, conv, niche_dual, niche_single, box_dual, box_single = _FIGURES[robot]
         who = ROBOT_NAMES[robot]
-        by = {fw: {c: study.group(c, robot, fw) for c in study.configs} for fw in FRAMEWORKS}
+        by = {fw: {c: study.group(c, robot, fw) for c in configs} for fw in FRAMEWORKS}
         if not any(runs for cell in by.values() for runs in cell.values()):
             continue
         save(pareto_panels(by["dual"], f"{who}: Pareto front of the dual stage's stage 1"),
              pareto, f"{who}, Pareto front (dual stage)", f"{robot}-pareto")  # fmt: skip
-        save(convergence_panels({c: {fw: by[fw][c] for fw in FRAMEWORKS} for c in study.configs},
+        save(convergence_panels({c: {fw: by[fw][c] for fw in FRAMEWORKS} for c in configs},
                                 f"{who}: convergence"),
              conv, f"{who}, convergence histories", f"{robot}-convergence")  # fmt: skip
         for number, fw in ((niche_dual, "dual"), (niche_single, "single")):

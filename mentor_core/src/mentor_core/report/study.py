@@ -98,6 +98,21 @@ def load_study(root: str | Path, log: TextIO | None = None) -> Study:
     return Study(base, runs, unseen, deployed, bench, _benches(base, "bench_{}_plain"))
 
 
+def study_inputs(root: str | Path) -> list[Path]:
+    """What :func:`load_study` reads in ``root``: its run directories and its evaluation and
+    benchmark files (so that an output may lie elsewhere in the folder, as the study's
+    report does)."""
+    base = Path(root)
+    if not base.is_dir():
+        return [base]
+    runs = [d for c in base.iterdir() if c.is_dir() for d in c.iterdir()
+            if d.is_dir() and _RUN_NAME.match(d.name)]  # fmt: skip
+    files = [base / p.format(r) for r in ROBOTS
+             for p in ("eval_unseen_{}.json", "eval_unseen_{}_deployed.json", "bench_{}",
+                       "bench_{}_plain")]  # fmt: skip
+    return sorted(runs) + [f for f in files if f.exists()]
+
+
 def _benches(base: Path, pattern: str) -> dict[str, dict[str, Any]]:
     return {r: load_bench(p) for r in ROBOTS
             if (p := base / pattern.format(r) / "bench.json").is_file()}  # fmt: skip
@@ -107,4 +122,4 @@ def _evals(base: Path, pattern: str) -> dict[str, EvalData]:
     return {r: load_eval(p) for r in ROBOTS if (p := base / pattern.format(r)).is_file()}
 
 
-__all__ = ["FRAMEWORKS", "ROBOTS", "Study", "load_study"]
+__all__ = ["FRAMEWORKS", "ROBOTS", "Study", "load_study", "study_inputs"]
