@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import pytest
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import PoseStamped, Twist
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from memory_support import latch
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
@@ -38,6 +38,7 @@ from mentor_core.navigation.guide import guide_config
 from mentor_core.navigation.scan_map import scan_map_resolution
 from mentor_core.runtime.guided_planner import GuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner, genome_profile
+from mentor_core.runtime.velocity_limits import VelocityLimits, limited_velocity
 from mentor_core.runtime.wiring import Wiring, wire_pose
 from mentor_core.sim.lidar import LidarSpec, lidar_scan
 from mentor_core.sim.planner_settings import with_planner
@@ -61,14 +62,17 @@ NS = "/robot_0"
 class Robot:
     """The test's side of one robot: publishes what the simulator would, hears cmd_vel."""
 
-    def __init__(self, graph: Graph) -> None:
+    def __init__(self, graph: Graph, stamped: bool = False) -> None:
         self.node = graph.probe("fake_sim")
         self.scan = self.node.create_publisher(LaserScan, f"{NS}/scan", qos_profile_sensor_data)
         self.odom = self.node.create_publisher(Odometry, f"{NS}/odom", qos_profile_sensor_data)
         self.goal = self.node.create_publisher(PoseStamped, f"{NS}/goal", QOS_LATCHED)
         self.clock = self.node.create_publisher(Clock, "/clock", 10)
         self.commands: list[Twist] = []
-        self.node.create_subscription(Twist, f"{NS}/cmd_vel", self.commands.append, QOS_COMMAND)
+        # one process holds a topic of one type only: a stamped cmd_vel is heard as such
+        self.stamped: list[TwistStamped] = []
+        kind, heard = (TwistStamped, self.stamped) if stamped else (Twist, self.commands)
+        self.node.create_subscription(kind, f"{NS}/cmd_vel", heard.append, QOS_COMMAND)
 
     def observe(self, t_ns: int, ranges: list[float], pose: tuple[float, float, float]) -> None:
         stamp = sim_conv.time_from_ns(t_ns)
@@ -142,12 +146,12 @@ def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
         robot.tick(t)
         return bool(robot.commands)
 
-    assert graph.spin_until(advance)  # sim time passes, no data at all
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    assert graph.spin_until(advance)  # a goal, sim time passes, no data at all
     assert all(c.linear.x == 0.0 and c.angular.z == 0.0 for c in robot.commands)
     assert planner.zero_commands >= 1 and planner.decisions == 0
     assert time.monotonic() - began > 1.5  # not before stale_timeout (3 control periods)
     # data arrives: real decisions; then it stops coming: zero Twists again
-    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
     assert graph.spin_until(lambda: robot.observe(t, [0.3] * 3, (1.0, 1.0, 0.0))
                             or planner.decisions == 1)
     assert graph.spin_until(lambda: any(c.linear.x > 0.0 for c in robot.commands))
@@ -156,7 +160,7 @@ def test_missing_or_stale_data_gives_a_zero_twist_and_a_warning(
     assert all(c == Twist() for c in robot.commands[answer + 1 :])
     # the warning names the fault and is throttled: one line for many zero Twists
     err = capfd.readouterr().err
-    assert err.count("no scan, odometry, goal received: sending a zero Twist") == 1
+    assert err.count("watchdog: no scan, odometry received: sending a zero Twist") == 1
     assert err.count("sending a zero Twist") < planner.zero_commands
 
 
@@ -288,6 +292,25 @@ def test_when_the_odometry_stops_the_next_command_is_a_zero_twist(
         publish(odometry=False)
     assert len(robot.commands) > moving and planner.zero_commands >= 1
     assert "no odometry for" in capfd.readouterr().err
+
+
+def test_the_robots_limits_scale_the_arc_and_cmd_vel_may_be_stamped(graph: Graph) -> None:
+    """A robot slower than the trained one drives the same arc, more slowly; Jazzy's
+    diff_drive_controller takes TwistStamped (issue 56, point 3)."""
+    limits = VelocityLimits(max_vel_x=0.05, max_vel_theta=0.4)
+    _planner(graph, max_vel_x=0.05, max_vel_theta=0.4, cmd_vel_stamped=True)
+    robot = Robot(graph, stamped=True)
+    stamped = robot.stamped
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((3.0, 2.5), Time()))
+    ranges, pose = [0.31, math.inf, 0.45], (1.0, 1.0, 0.3)
+    assert graph.spin_until(lambda: robot.observe(0, ranges, pose) or bool(stamped))
+    wire = [float(np.float32(r)) for r in ranges]
+    want = limited_velocity(GenomePlanner.load(GENOME, "swarm").command(wire, pose, (3.0, 2.5)),
+                            limits)  # fmt: skip
+    got = stamped[0]
+    assert (got.twist.linear.x, got.twist.angular.z) == pytest.approx(want, abs=1e-12)
+    assert abs(got.twist.linear.x) <= 0.05 + 1e-12 and abs(got.twist.angular.z) <= 0.4 + 1e-12
+    assert got.header.frame_id == "robot_0/base_link"  # the odometry's child frame
 
 
 def test_without_a_genome_every_answer_is_zero(graph: Graph) -> None:
@@ -480,6 +503,28 @@ def test_the_goal_radius_changes_at_run_time_and_a_reached_goal_stops_the_robot(
     assert graph.spin_until(lambda: planner.gate.goal is not None)
     got = _answered(graph, robot, planner, 0, [0.3] * 3, (1.0, 1.0, 0.0))  # 0.71 m away
     assert got == Twist() and planner.goals_reached == 1 and planner.gate.goal is None
+    # then the node is quiet (it would fight a teleoperator): no repeats, no watchdog zeros,
+    # though the data keeps coming and then stops (issue 56, point 3)
+    sent = len(robot.commands)
+    for k in range(1, 4):
+        robot.observe(k * 10**9, [0.3] * 3, (1.0, 1.0, 0.0))
+        graph.spin_for(0.2)
+    graph.spin_for(1.0)
+    assert len(robot.commands) == sent
+
+
+def test_a_timer_node_stops_repeating_once_its_goal_is_reached(graph: Graph) -> None:
+    planner = _planner(graph, decide_on_timer=True, use_sim_time=False, goal_radius=1.0)
+    robot = Robot(graph)
+    robot.goal.publish(sim_conv.pose_stamped_from_goal((1.5, 1.5), Time()))
+    assert graph.spin_until(lambda: planner.gate.goal is not None)
+    assert graph.spin_until(lambda: robot.observe(0, [0.3] * 3, (1.0, 1.0, 0.0))
+                            or planner.goals_reached == 1)  # fmt: skip
+    assert graph.spin_until(lambda: bool(robot.commands))
+    graph.spin_for(0.3)  # the one zero Twist arrives
+    sent = len(robot.commands)
+    graph.spin_for(1.0)  # ten repeats' worth at 10 Hz
+    assert len(robot.commands) == sent and robot.commands[-1] == Twist()
 
 
 def test_behind_a_rotation_shim_the_node_turns_onto_a_goal_behind_it_first(

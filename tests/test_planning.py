@@ -182,10 +182,14 @@ def test_a_refused_scan_leaves_nothing_to_answer_and_a_stopped_stream_is_stale_a
 
 def test_watchdog_reports_missing_and_stale_data() -> None:
     gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
-    assert gate.watchdog(10 * S) is None  # counts from its first call
-    assert gate.watchdog(13 * S) is None
-    assert gate.watchdog(14 * S) == "no scan, odometry, goal received"
+    assert gate.watchdog(10 * S) is None  # no goal: nothing is driven, nothing to stop
+    assert gate.watchdog(100 * S) is None
+    gate.on_goal((1.0, 1.0))  # a goal: the watchdog counts from its last quiet call
+    assert gate.watchdog(103 * S) is None
+    assert gate.watchdog(104 * S) == "no scan, odometry received"
+    gate = DecisionGate(stale_after=3.0, sync_tolerance=0.0)
     gate.on_goal((1.0, 1.0))
+    assert gate.watchdog(10 * S) is None  # counts from its first call
     gate.on_scan(0, [1.0] * 3)
     gate.on_odometry(0, (0.0, 0.0, 0.0))
     assert gate.take(14 * S) is not None
@@ -212,7 +216,7 @@ def _gate_after_one_episode() -> DecisionGate:
 def test_watchdog_is_quiet_between_episodes() -> None:
     gate = _gate_after_one_episode()
     assert gate.idle and gate.watchdog(100 * S) is None
-    gate.on_event("started", 100 * S)  # the next episode: the watchdog counts afresh
+    gate.on_event("started", 100 * S, goal=(2.0, 2.0))  # the next: the watchdog counts afresh
     assert not gate.idle
     assert gate.watchdog(103 * S) is None
     assert gate.watchdog(104 * S) is not None

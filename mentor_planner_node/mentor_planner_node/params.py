@@ -7,7 +7,7 @@ All are read-only but ``goal_radius``, which may change while the node runs
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
@@ -23,6 +23,7 @@ from mentor_core import (
     MentorError,
     RobotProfile,
     Transform2D,
+    VelocityLimits,
     deployed_genome,
     get_profile,
     load_deployment,
@@ -62,6 +63,8 @@ class PlannerParameters:
     goal_pose_topic: str
     use_tf: bool
     repeat_rate: float = REPEAT_RATE
+    limits: VelocityLimits = field(default_factory=VelocityLimits)
+    cmd_vel_stamped: bool = False
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
@@ -137,6 +140,17 @@ def _declarations() -> list[tuple[str, Any, Any]]:
         ("map_frame", MAP_FRAME, _descriptor("the map's frame (goals without a frame)")),
         ("goal_pose_topic", "/goal_pose", _descriptor("goals of RViz/Foxglove ('' : none)")),
         ("use_tf", True, _descriptor("take frames from /tf where tf2_ros is installed")),
+        ("max_vel_x", 0.0, _descriptor("m/s, the robot's top speed: both speeds scaled "
+                                       "together to it, the arc kept (0: none)", low=0.0)),
+        ("max_vel_theta", 0.0, _descriptor("rad/s, the robot's top turn rate, as max_vel_x "
+                                           "(0: none)", low=0.0)),
+        ("acc_lim_x", 0.0, _descriptor("m/s^2, largest change of the speed per second "
+                                       "(0: none)", low=0.0)),
+        ("acc_lim_theta", 0.0, _descriptor("rad/s^2, largest change of the turn rate per "
+                                           "second (0: none)", low=0.0)),
+        ("cmd_vel_stamped", False, _descriptor("publish geometry_msgs/TwistStamped on cmd_vel "
+                                               "(Jazzy's diff_drive_controller) instead of "
+                                               "Twist")),
     ]
 
 
@@ -170,6 +184,11 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
     repeat = float(values["repeat_rate"])
     if not (repeat >= 0.0 and repeat < float("inf")):
         raise PlannerSetupError(f"repeat_rate: {repeat} is not a rate >= 0 Hz")
+    try:
+        limits = VelocityLimits(*(float(values[k]) for k in
+                                  ("max_vel_x", "max_vel_theta", "acc_lim_x", "acc_lim_theta")))
+    except ValueError as err:
+        raise PlannerSetupError(str(err)) from None
     kind = str(values["scan_kind"])
     if kind not in SCAN_KINDS:
         raise PlannerSetupError(f"scan_kind: {kind!r} is not one of {', '.join(SCAN_KINDS)}")
@@ -192,6 +211,8 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
         goal_pose_topic=str(values["goal_pose_topic"]),
         use_tf=bool(values["use_tf"]),
         repeat_rate=repeat,
+        limits=limits,
+        cmd_vel_stamped=bool(values["cmd_vel_stamped"]),
     )
 
 

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from geometry_msgs.msg import PoseStamped, Twist
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
@@ -59,6 +59,7 @@ from mentor_core import (
     PlannerFrames,
     Transform2D,
     bounds_fault,
+    limited_velocity,
     readings_fault,
     readings_from_scan,
 )
@@ -138,7 +139,8 @@ class PlannerNode(Node):
         self._last_cmd: Twist | None = None  # what a repeat sends; None: nothing
         self.goals_reached = 0
 
-        self._cmd_pub = self.create_publisher(Twist, "cmd_vel", QOS_COMMAND)
+        self._cmd_pub = self.create_publisher(TwistStamped if p.cmd_vel_stamped else Twist,
+                                              "cmd_vel", QOS_COMMAND)  # fmt: skip
         # events and goals first: the executor serves ready subscriptions in creation order,
         # so an episode's end and the next start are handled before its observations
         self._events_sub = self.create_subscription(String, "events", self._on_event, QOS_EVENTS)
@@ -321,6 +323,7 @@ class PlannerNode(Node):
             self.goals_reached += 1
             self.get_logger().info("goal reached: stopping")
             self._send(Twist())
+            self._last_cmd = None  # then quiet: nothing is repeated, a teleoperator may drive
             return
         if self.planner is None:
             self._send_zero("no genome loaded")
@@ -335,6 +338,11 @@ class PlannerNode(Node):
             decide = decider.decide
             dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)
             twist = conversions.twist_from_action(dtheta, ds, self.control_period)
+            if self.params.limits.any:  # the robot's limits, after the network
+                last = self._last_cmd or Twist()
+                v, w = limited_velocity((twist.linear.x, twist.angular.z), self.params.limits,
+                                        (last.linear.x, last.angular.z), self.control_period)
+                twist.linear.x, twist.angular.z = v, w
         except (ValueError, LookupError) as err:  # LookupError: map -> odom for a global plan
             self._send_zero(f"no decision ({err})")
             return
@@ -354,8 +362,19 @@ class PlannerNode(Node):
                                       throttle_duration_sec=WARN_EVERY_S)  # fmt: skip
 
     def _send(self, twist: Twist) -> None:
-        self._cmd_pub.publish(twist)
+        self._publish(twist)
         self._last_cmd = twist
+
+    def _publish(self, twist: Twist) -> None:
+        """``twist`` on cmd_vel, stamped now in the robot's body frame with
+        ``cmd_vel_stamped``."""
+        if not self.params.cmd_vel_stamped:
+            self._cmd_pub.publish(twist)
+            return
+        msg = TwistStamped(twist=twist)
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.header.frame_id = self.frames.base_frame
+        self._cmd_pub.publish(msg)
 
     def _repeat(self) -> None:
         if self._last_cmd is None:
@@ -364,7 +383,7 @@ class PlannerNode(Node):
         if stale is not None and self._last_cmd != Twist():
             self._stop(stale)  # never the last command again on data that stopped coming
             return
-        self._cmd_pub.publish(self._last_cmd)
+        self._publish(self._last_cmd)
         self.repeats += 1
 
     def _send_zero(self, reason: str) -> None:

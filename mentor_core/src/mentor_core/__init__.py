@@ -276,6 +276,12 @@ if TYPE_CHECKING:
     from mentor_core.runtime.simulator import (
         ReferenceSimulator as ReferenceSimulator,
     )
+    from mentor_core.runtime.velocity_limits import (
+        VelocityLimits as VelocityLimits,
+    )
+    from mentor_core.runtime.velocity_limits import (
+        limited_velocity as limited_velocity,
+    )
     from mentor_core.runtime.wiring import Wiring as Wiring
     from mentor_core.sim.frames import (
         MAP_FRAME as MAP_FRAME,

@@ -208,8 +208,9 @@ class DecisionGate:
 
     def stale(self, now_ns: int) -> str | None:
         """Why the last command must not be sent again at node time ``now_ns`` (a stream has
-        stopped: one line), or None. Quiet while idle."""
-        if self._idle:
+        stopped: one line), or None. Quiet while idle or without a goal (nothing is being
+        driven)."""
+        if self._idle or self._goal is None:
             return None
         for name, stream in self._streams.items():
             age = stream.stale_for(now_ns)
@@ -221,13 +222,17 @@ class DecisionGate:
     def watchdog(self, now_ns: int) -> str | None:
         """Why the planner should send a zero Twist at node time ``now_ns`` (one line), or None.
 
-        Quiet while idle. Otherwise it fires when a stream is :meth:`stale`, or when the last
-        answer (or, before any, the first watchdog call or the last ``started`` event) lies
-        more than ``stale_after`` back.
+        Quiet while idle and without a goal: a node with nothing to drive to publishes nothing
+        (it would fight a teleoperator; the goal's end sent its zero Twist). Otherwise it fires
+        when a stream is :meth:`stale`, or when the last answer (or, before any, the first
+        watchdog call, the last ``started`` event or the goal's arrival) lies more than
+        ``stale_after`` back.
         """
         if self._since is None:
             self._since = int(now_ns)
-        if self._idle:
+        if self._idle or self._goal is None:
+            # a goal that comes later is given stale_after afresh
+            self._since, self._answered_at = int(now_ns), None
             return None
         stopped = self.stale(now_ns)
         if stopped is not None:
@@ -237,8 +242,7 @@ class DecisionGate:
         if age <= self.stale_after_ns:
             return None
         missing = [what for what, absent in (("scan", self._scan is None),
-                                             ("odometry", not len(self._odometry)),
-                                             ("goal", self._goal is None)) if absent]  # fmt: skip
+                                             ("odometry", not len(self._odometry))) if absent]
         if missing:
             return f"no {', '.join(missing)} received"
         assert self._scan is not None
