@@ -34,7 +34,7 @@ import numpy as np
 from mentor_core.benchmark.document import load_bench
 from mentor_core.cli.bench import main as bench_main
 from mentor_core.report.significance import compare, p_text
-from mentor_core.report.study import ROBOTS, Study, load_study
+from mentor_core.report.study import ROBOTS, Study, bench_success, load_study
 
 ARMS = (("MENTOR: F and G, dual", "paper", "dual"),
         ("G removed: F and simplicity, dual", "simplicity", "dual"),
@@ -66,19 +66,6 @@ def run_benches(study: Study, robot: str, pairs: int, workers: int) -> None:
             raise SystemExit(code)
 
 
-def _bench_success(doc: dict[str, Any] | None, config: str, framework: str) -> list[float]:
-    if doc is None:
-        return []
-    prefix = f"{config}-{framework}-s"
-    found = sorted(
-        (int(c["name"][len(prefix):]), c)
-        for c in doc["contenders"]
-        if c["name"].startswith(prefix) and c["name"][len(prefix):].isdigit()
-    )
-    values = [c["scores"]["paper"]["overall"]["success"] for _, c in found]
-    return [math.nan if v is None else float(v) for v in values]
-
-
 def columns(study: Study, robot: str, config: str, framework: str) -> list[list[float]]:
     """The arm's success per seed in each column (test deployed, test plain, bags plain, bags
     deployed); an empty list where the study lacks it."""
@@ -87,8 +74,8 @@ def columns(study: Study, robot: str, config: str, framework: str) -> list[list[
     bags = [r.summary["success_rate"] for r in study.unseen_runs(config, robot, framework)]
     deployed = [r.summary["success_rate"]
                 for r in study.unseen_runs(config, robot, framework, deployed=True)]  # fmt: skip
-    return [_bench_success(docs["deployed"], config, framework),
-            _bench_success(docs["plain"], config, framework), bags, deployed]  # fmt: skip
+    return [bench_success(docs["deployed"], config, framework),
+            bench_success(docs["plain"], config, framework), bags, deployed]  # fmt: skip
 
 
 def _read(path: Path) -> dict[str, Any] | None:

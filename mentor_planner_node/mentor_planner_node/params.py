@@ -185,8 +185,8 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
     if not (repeat >= 0.0 and repeat < float("inf")):
         raise PlannerSetupError(f"repeat_rate: {repeat} is not a rate >= 0 Hz")
     try:
-        limits = VelocityLimits(*(float(values[k]) for k in
-                                  ("max_vel_x", "max_vel_theta", "acc_lim_x", "acc_lim_theta")))
+        limits = VelocityLimits(**{k: float(values[k]) for k in
+                                   ("max_vel_x", "max_vel_theta", "acc_lim_x", "acc_lim_theta")})
     except ValueError as err:
         raise PlannerSetupError(str(err)) from None
     kind = str(values["scan_kind"])

@@ -354,8 +354,7 @@ class PlannerNode(Node):
         if reason is not None and self.global_plan is not None and not self.global_plan.ready:
             reason = self.global_plan.waiting_for()
         if reason is not None:
-            self._send(Twist())
-            self.zero_commands += 1
+            self._zero()
             # its own call site: rclpy throttles each call site apart, so a flood of other
             # warnings never hides why the robot stopped
             self.get_logger().warning(f"watchdog: {reason}: sending a zero Twist",
@@ -386,15 +385,17 @@ class PlannerNode(Node):
         self._publish(self._last_cmd)
         self.repeats += 1
 
-    def _send_zero(self, reason: str) -> None:
+    def _zero(self) -> None:
         self._send(Twist())
         self.zero_commands += 1
+
+    def _send_zero(self, reason: str) -> None:
+        self._zero()
         self._warn(f"{reason}: sending a zero Twist")
 
     def _stop(self, reason: str) -> None:
         """A zero Twist at once, with a line of its own (throttled apart from other lines)."""
-        self._send(Twist())
-        self.zero_commands += 1
+        self._zero()
         self.get_logger().warning(f"{reason}: stopping", throttle_duration_sec=WARN_EVERY_S)
 
 

@@ -85,22 +85,18 @@ def main(argv: list[str] | None = None) -> int:
     elif not (args.runs or args.eval or args.bench):
         parser.error("give a run directory, --eval or --bench")
     matplotlib.use("Agg")  # no display needed; the report draws on the Agg canvas only
-    if args.paper is not None:
-        try:
+    try:
+        if args.paper is not None:
             inputs = study_inputs(args.paper)
             check_file("--out", args.out, inputs, args.force)
             check_folder("--out", args.out.with_suffix(""), inputs, args.force)
-            page = write_reproduction(args.paper, args.out)
-        except (MentorError, OSError) as err:
-            return fail("mentor-report", err)
-        print(f"mentor-report: wrote {page}", file=sys.stderr)
-        return 0
-    try:
-        check_folder("--out", args.out, [*args.runs, *args.eval, *args.bench], args.force)
-        report = write_report(args.runs, args.eval, args.out, bench_jsons=args.bench)
+            written = write_reproduction(args.paper, args.out)
+        else:
+            check_folder("--out", args.out, [*args.runs, *args.eval, *args.bench], args.force)
+            written = write_report(args.runs, args.eval, args.out, bench_jsons=args.bench)
     except (MentorError, OSError) as err:
         return fail("mentor-report", err)
-    print(f"mentor-report: wrote {report}", file=sys.stderr)
+    print(f"mentor-report: wrote {written}", file=sys.stderr)
     return 0
 
 

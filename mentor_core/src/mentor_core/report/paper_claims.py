@@ -22,8 +22,7 @@ from scipy import stats
 from mentor_core.evolution.config import PAPER_TABLE_I
 from mentor_core.report.runs import RunData
 from mentor_core.report.significance import compare, directed_verdict, p_text
-from mentor_core.report.study import Study
-from mentor_core.validation import read_yaml
+from mentor_core.report.study import Study, bench_success
 
 #: the paper's range of the largest niche's share: UGV 25-35 %, Swarm-Robot at most 25 %
 NICHE_RANGE = {"ugv": (0.25, 0.35), "swarm": (0.0, 0.25)}
@@ -126,7 +125,7 @@ def _table_one(study: Study, config: str) -> Finding:
         return Finding("-", "cannot be tested", "no runs of this config")
     departures: set[str] = set()
     for run in runs:
-        evo = read_yaml(run.path / "config.yaml").get("evolution")
+        evo = run.config.get("evolution")
         if not isinstance(evo, dict):
             return Finding("-", "cannot be tested", f"{run.path}: config.yaml gives no evolution")
         mutation, table = evo["mutation"], PAPER_TABLE_I[run.robot]
@@ -288,8 +287,7 @@ def _higher_objective(study: Study, config: str) -> Finding:
 
 
 def _scenarios(run: RunData) -> int:
-    config = read_yaml(run.path / "config.yaml")
-    return int(config.get("n_scenarios") or 1)
+    return int(run.config.get("n_scenarios") or 1)
 
 
 def _unseen_setting(study: Study, config: str) -> Finding:
@@ -351,26 +349,10 @@ def _unseen_and_bench(study: Study, config: str, robot: str) -> dict[str, dict[s
     runs = {fw: study.unseen_runs(config, robot, fw) for fw in ("single", "dual")}
     if all(runs.values()):
         out["bags"] = {fw: [r.summary["success_rate"] for r in v] for fw, v in runs.items()}
-    doc = study.bench.get(robot)
-    if doc is not None:
-        by_name = {c["name"]: c for c in doc["contenders"]}
-        values = {fw: [_success(by_name[n]) for n in sorted(by_name) if _cell(n, config, fw)]
-                  for fw in ("single", "dual")}  # fmt: skip
-        if all(len(v) >= 2 for v in values.values()):
-            out["test split, deployed"] = values
+    values = {fw: bench_success(study.bench.get(robot), config, fw) for fw in ("single", "dual")}
+    if all(len(v) >= 2 for v in values.values()):
+        out["test split, deployed"] = values
     return out
-
-
-def _cell(name: str, config: str, framework: str) -> bool:
-    prefix = f"{config}-{framework}-s"
-    return name.startswith(prefix) and name[len(prefix):].isdigit()
-
-
-def _success(contender: dict[str, object]) -> float:
-    scores = contender["scores"]
-    assert isinstance(scores, dict)
-    value = scores["paper"]["overall"]["success"]
-    return math.nan if value is None else float(value)
 
 
 def _speed_and_survival(study: Study, config: str) -> Finding:

@@ -12,7 +12,8 @@ import csv
 import io
 import json
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +50,7 @@ class RunData:
     best_genome: Genome
     input_encoding: str = "paper"  # of the best genome (its metadata)
     feedback_action: bool = False  # of the best genome (its metadata)
+    config: Mapping[str, Any] = field(default_factory=dict)  # the run's config.yaml
 
     @property
     def label(self) -> str:
@@ -210,6 +212,7 @@ def load_run(run_dir: str | Path) -> RunData:
         best_genome=genome,
         input_encoding=planner.input_encoding,
         feedback_action=planner.feedback_action,
+        config=config,
     )
 
 

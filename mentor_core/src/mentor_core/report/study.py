@@ -12,17 +12,19 @@ warning, a corrupt file is a FileFormatError naming it.
 
 from __future__ import annotations
 
+import math
 import re
 import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, TextIO, TypeVar
 
 from mentor_core.benchmark.document import load_bench
 from mentor_core.errors import FileFormatError
 from mentor_core.report.runs import EvalData, EvalRun, RunData, is_finished, load_eval, load_run
 
+T = TypeVar("T")
 ROBOTS = ("ugv", "swarm")
 FRAMEWORKS = ("single", "dual")
 _RUN_NAME = re.compile(r"^(ugv|swarm)-(single|dual)-s(\d+)$")
@@ -60,13 +62,26 @@ class Study:
         if data is None:
             return []
         prefix = f"{'deployed-' if deployed else ''}{config}-{framework}-s"
-        found = [(_seed(r.label, prefix), r) for r in data.runs if r.label.startswith(prefix)]
-        return [r for s, r in sorted(found, key=lambda x: x[0]) if s >= 0]
+        return _by_seed([(r.label, r) for r in data.runs], prefix)
 
 
-def _seed(label: str, prefix: str) -> int:
-    rest = label[len(prefix):]
-    return int(rest) if rest.isdigit() else -1
+def _by_seed(named: Sequence[tuple[str, T]], prefix: str) -> list[T]:
+    """The items named ``<prefix><seed>`` (the study's labels), by ascending seed."""
+    found = [(int(name[len(prefix):]), item) for name, item in named
+             if name.startswith(prefix) and name[len(prefix):].isdigit()]  # fmt: skip
+    return [item for _, item in sorted(found, key=lambda x: x[0])]
+
+
+def bench_success(doc: Mapping[str, Any] | None, config: str, framework: str) -> list[float]:
+    """The success within the paper's limit, over all pairs, of each of one cell's genomes in
+    a benchmark document (labelled ``<config>-<framework>-s<seed>``), by ascending seed; NaN
+    where not computed, empty without a document."""
+    if doc is None:
+        return []
+    named = [(str(c["name"]), c["scores"]["paper"]["overall"]["success"])
+             for c in doc["contenders"]]  # fmt: skip
+    values = _by_seed(named, f"{config}-{framework}-s")
+    return [math.nan if v is None else float(v) for v in values]
 
 
 def load_study(root: str | Path, log: TextIO | None = None) -> Study:
@@ -122,4 +137,4 @@ def _evals(base: Path, pattern: str) -> dict[str, EvalData]:
     return {r: load_eval(p) for r in ROBOTS if (p := base / pattern.format(r)).is_file()}
 
 
-__all__ = ["FRAMEWORKS", "ROBOTS", "Study", "load_study", "study_inputs"]
+__all__ = ["FRAMEWORKS", "ROBOTS", "Study", "bench_success", "load_study", "study_inputs"]

@@ -71,9 +71,9 @@ class OdometryHistory:
 
     def pose_at(self, stamp_ns: int) -> Pose | None:
         """The pose at ``stamp_ns`` (module docstring), or None."""
-        if not self._stamps:
+        stamps = self._stamps
+        if not stamps:
             return None
-        stamps = list(self._stamps)
         k = bisect.bisect_left(stamps, stamp_ns)
         if k < len(stamps) and stamps[k] == stamp_ns:
             return self._poses[k]

@@ -107,13 +107,13 @@ class ScanReadings:
 
     readings: FloatArray
     covered: NDArray[np.bool_]
-    unknown: NDArray[np.bool_] | None = None
-    valid_share: float = 1.0
+    unknown: NDArray[np.bool_]
+    valid_share: float
 
     @property
     def unknown_sensors(self) -> tuple[int, ...]:
         """Indices of the sensors whose reading is unknown (module docstring)."""
-        return () if self.unknown is None else tuple(int(i) for i in np.flatnonzero(self.unknown))
+        return tuple(int(i) for i in np.flatnonzero(self.unknown))
 
     @property
     def uncovered(self) -> tuple[int, ...]:
