@@ -1,5 +1,7 @@
 """ament_python packaging of mentor_planner_node (see ROS 2 demo_nodes_py)."""
 
+from glob import glob
+
 from setuptools import find_packages, setup
 
 package_name = "mentor_planner_node"
@@ -12,6 +14,9 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
         ("share/" + package_name, ["package.xml"]),
         ("share/" + package_name + "/launch", ["launch/planner.launch.py"]),
+        # robot presets, and the shipped planners: genome:=ugv-paper-dual-s1 from anywhere
+        ("share/" + package_name + "/config", glob("config/*.yaml") + glob("config/*.rviz")),
+        ("share/" + package_name + "/planners", sorted(glob("../planners/*.json"))),
     ],
     install_requires=["setuptools"],
     zip_safe=True,

@@ -11,6 +11,8 @@ setup(
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
         ("share/" + package_name, ["package.xml"]),
+        # RViz2's view of one robot: its topics are relative, rviz2 runs in its namespace
+        ("share/" + package_name + "/config", ["config/mentor.rviz"]),
     ],
     install_requires=["setuptools"],
     zip_safe=True,

@@ -14,7 +14,7 @@ setup(
         ("share/" + package_name + "/launch", ["launch/mentor.launch.py"]),
         (
             "share/" + package_name + "/config",
-            ["config/mentor.rviz", "config/foxglove_layout.json"],
+            ["config/foxglove_layout.json"],
         ),
     ],
     install_requires=["setuptools"],

@@ -73,3 +73,32 @@ if [ "$(cat "$WSTAMP" 2>/dev/null)" != "$wwant" ]; then
   done
   echo "$wwant" > "$WSTAMP"
 fi
+
+# tf2_msgs and nav2_msgs have no wheel: generate them (interfaces/README.md) where a C compiler
+# and Python's headers are here, into ros2_ws/interfaces/install (scripts/test.sh sources it).
+IWS="$WS/interfaces"
+ISTAMP="$IWS/install/.mentor-stamp"
+iwant="$(cd "$ROOT" && find interfaces -type f -print0 | sort -z | xargs -0 sha256sum |
+  cat - requirements.lock | sha256sum | cut -d' ' -f1)"
+if [ "$(cat "$ISTAMP" 2>/dev/null)" != "$iwant" ]; then
+  pyinc="$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')"
+  if ! command -v cc >/dev/null 2>&1 || ! command -v c++ >/dev/null 2>&1 ||
+     [ ! -f "$pyinc/Python.h" ]; then
+    echo "bootstrap: no C/C++ compiler or Python.h here (Debian: apt-get install g++" \
+      "python3.11-dev): tf2_msgs and nav2_msgs not generated; the tests of the live TF path" \
+      "and the NavigateToPose action are skipped" >&2
+  else
+    echo "bootstrap: generating tf2_msgs and nav2_msgs in ros2_ws/interfaces/" >&2
+    ilog="$(mktemp)"
+    (rm -rf "$IWS" && mkdir -p "$IWS" && cd "$IWS" &&
+     PATH="$VENV/bin:$PATH" AMENT_PREFIX_PATH="$VENV" CMAKE_PREFIX_PATH="$VENV" \
+       "$VENV/bin/colcon" --log-base log build --base-paths "$ROOT/interfaces" \
+       --event-handlers console_direct- --cmake-args -G Ninja \
+       -DPython3_EXECUTABLE="$VENV/bin/python" -DBUILD_TESTING=OFF \
+       -DCMAKE_PROJECT_INCLUDE="$ROOT/interfaces/fix_wheel_include_dirs.cmake" >"$ilog" 2>&1) ||
+      { cat "$ilog" >&2; echo "bootstrap: generating the interfaces failed; see" \
+          "ros2_ws/interfaces/log/latest_build" >&2; exit 1; }
+    rm -f "$ilog"
+    echo "$iwant" > "$ISTAMP"
+  fi
+fi

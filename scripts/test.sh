@@ -9,6 +9,10 @@ cd "$ROOT"
 export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-42}"
 export NUMBA_CACHE_DIR="${NUMBA_CACHE_DIR:-$ROOT/.venv/numba-cache}"
+# the generated tf2_msgs and nav2_msgs, where bootstrap could make them (interfaces/README.md)
+if [ -f "$ROOT/ros2_ws/interfaces/install/local_setup.bash" ]; then
+  set +u; source "$ROOT/ros2_ws/interfaces/install/local_setup.bash"; set -u
+fi
 echo "== ruff" >&2
 .venv/bin/ruff check mentor_core tests benchmarks scripts mentor_sim_node mentor_planner_node \
   mentor_ros_common mentor_bringup

@@ -114,9 +114,17 @@ def test_odometry_rejects_garbage() -> None:
 def test_goal_round_trip_in_any_frame() -> None:
     msg = sim.pose_stamped_from_goal((10.5, 1.0 / 3.0), sim.time_from_ns(0))
     assert msg.header.frame_id == "map"
-    assert planner.goal_request(msg) == ("map", (10.5, 1.0 / 3.0))
+    assert planner.goal_request(msg) == ("map", (10.5, 1.0 / 3.0), 0.0)  # facing +x
     msg.header.frame_id = "odom"  # refused before issue 16; now the planner transforms it
-    assert planner.goal_request(msg) == ("odom", (10.5, 1.0 / 3.0))
+    assert planner.goal_request(msg) == ("odom", (10.5, 1.0 / 3.0), 0.0)
+    msg.pose.orientation.z, msg.pose.orientation.w = math.sin(0.5), math.cos(0.5)
+    assert planner.goal_request(msg)[2] == pytest.approx(1.0)  # a heading of 1 rad
+    msg.pose.orientation.z = msg.pose.orientation.w = 0.0  # all zeros: no heading
+    assert planner.goal_request(msg)[2] is None
+    msg.pose.orientation.w = math.nan
+    with pytest.raises(ValueError, match="orientation is not finite"):
+        planner.goal_request(msg)
+    msg.pose.orientation.w = 1.0
     msg.pose.position.x = math.nan
     with pytest.raises(ValueError, match="not finite"):
         planner.goal_request(msg)

@@ -22,11 +22,11 @@ LAUNCH_FILES = [
     ROOT / "mentor_planner_node" / "launch" / "planner.launch.py",
 ]
 CONFIG = ROOT / "mentor_sim_node" / "config"
+RVIZ = ROOT / "mentor_ros_common" / "config" / "mentor.rviz"
 #: what a viewer must show for robot_0: topics the simulator and planner use, and the path
 #: and scan map the planner publishes
-TOPICS = {"/mentor/obstacles", "/map", "/robot_0/scan", "/robot_0/lidar/scan",
-          "/robot_0/odom", "/robot_0/goal", "/robot_0/plan", "/robot_0/global_plan",
-          "/robot_0/scan_map"}
+ROBOT_TOPICS = {"scan", "lidar/scan", "odom", "goal", "plan", "global_plan", "scan_map"}
+TOPICS = {"/mentor/obstacles", "/map"} | {f"/robot_0/{t}" for t in ROBOT_TOPICS}
 _LAUNCH = importlib.util.find_spec("launch")
 # the real package, not the namespace package the node packages' launch/ folders make of the
 # name when the node packages' roots are on sys.path (tests/ros_support.py puts them there)
@@ -50,7 +50,9 @@ def test_launch_files_compile_and_build_where_launch_is_installed(
 def test_launch_files_are_installed_with_the_packages() -> None:
     for pkg in ("mentor_sim_node", "mentor_planner_node"):
         assert "launch/" in (ROOT / pkg / "setup.py").read_text()
-    assert "config/mentor.rviz" in (ROOT / "mentor_sim_node" / "setup.py").read_text()
+    assert "config/mentor.rviz" in (ROOT / "mentor_ros_common" / "setup.py").read_text()
+    assert "<exec_depend>rviz2</exec_depend>" in (ROOT / "mentor_ros_common" /
+                                                  "package.xml").read_text()
 
 
 def _strings(node: Any) -> set[str]:
@@ -61,11 +63,13 @@ def _strings(node: Any) -> set[str]:
     return {node} if isinstance(node, str) else set()
 
 
-def test_the_rviz_config_shows_map_robots_scans_goals_and_paths() -> None:
-    config = yaml.safe_load((CONFIG / "mentor.rviz").read_text())
+def test_the_rviz_config_shows_map_robots_scans_goals_and_paths_of_any_namespace() -> None:
+    config = yaml.safe_load(RVIZ.read_text())
     manager = config["Visualization Manager"]
     assert manager["Global Options"]["Fixed Frame"] == "map"
-    assert TOPICS | {"/robot_0/robot_description"} <= _strings(manager["Displays"])
+    shown = _strings(manager["Displays"])
+    assert {"/mentor/obstacles", "/map", "robot_description"} | ROBOT_TOPICS <= shown
+    assert not any("robot_0" in text for text in shown)  # relative: rviz2 in the namespace
     classes = {d["Class"] for d in manager["Displays"]}
     assert {"rviz_default_plugins/TF", "rviz_default_plugins/RobotModel",
             "rviz_default_plugins/Map"} <= classes

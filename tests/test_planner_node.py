@@ -84,8 +84,10 @@ class Robot:
 
 
 def _planner(graph: Graph, **values: Any) -> PlannerNode:
-    """The node under test; ``deployment_set``, a list of strings, is a string array."""
-    values = {"genome": str(GENOME), "profile": "swarm", "use_sim_time": True, **values}
+    """The node under test; ``deployment_set``, a list of strings, is a string array. Its
+    frames come from the parameters (the test publishes no TF)."""
+    values = {"genome": str(GENOME), "profile": "swarm", "use_sim_time": True, "use_tf": False,
+              **values}
     return graph.add(PlannerNode(context=graph.context, namespace=NS,
                                  parameter_overrides=params(**values)))
 
@@ -713,8 +715,8 @@ def test_with_a_turn_gain_the_node_answers_as_the_planner_with_that_gain(graph: 
                       ["stages.turn_gain.gain=0.75"])  # fmt: skip
     planner = graph.add(PlannerNode(
         context=graph.context, namespace=NS,
-        parameter_overrides=[*params(genome=str(GENOME), profile="swarm", use_sim_time=True),
-                             typed],
+        parameter_overrides=[*params(genome=str(GENOME), profile="swarm", use_sim_time=True,
+                                     use_tf=False), typed],
     ))  # fmt: skip
     assert planner.planner is not None
     assert planner.planner.stages == (TurnGain(gain=0.75),)

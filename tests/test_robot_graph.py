@@ -233,43 +233,31 @@ def test_the_launch_file_runs_shipped_planners_of_two_robots_as_deployed(
     assert "deployment" not in plain["parameters"][0]
 
 
-#: the node parameters the deployment replaced
-LAYERS = ("control_period", "scan_map", "rotation_shim_deg", "collision_guard", "turn_gain",
-          "view_margin", "scan_map_resolution", "scan_map_clearance_cost")  # fmt: skip
-
-
-def _performed(values: dict[str, Any], context: dict[str, str]) -> dict[str, Any]:
-    """The node's parameters with each launch argument's text in place of its substitution."""
-    def text(value: Any) -> Any:
-        if isinstance(value, _Value):
-            return text(value.value)
-        return value.perform(context) if isinstance(value, _Config) else value
-
-    return {name: text(value) for name, value in values.items()}
-
-
-def test_the_planner_launch_file_runs_a_deployment_as_the_benchmark_scores_it(
+def test_the_planner_launch_file_starts_a_preset_with_the_arguments_given_on_top(
     planner_launch_file: types.ModuleType,
 ) -> None:
-    """``deployment:=shipped`` (or a file) reaches the node as its ``deployment``, which the
-    node runs as ``mentor-bench --deployment`` does; without it the node runs the genome as
-    trained (``none``), and none of the parameters the deployment replaced is given."""
+    """``robot:=`` names the preset's parameter file (installed in the package's share); an
+    argument left empty keeps its value, one given goes on top; the namespace and the
+    remappings reach the node, and ``rviz:=true`` starts RViz2 in that namespace."""
     module = planner_launch_file
-    (plain,) = _launch(module, genome=UGV)
-    (values,) = plain["parameters"]
-    assert not set(LAYERS) & set(values)
-    context = {**module.ARGUMENTS, "genome": UGV}
-    assert _performed(values, context)["deployment"] == "none"
-    for deployment in ("shipped", "my_deployment.yaml"):
-        context = {**module.ARGUMENTS, "genome": SWARM, "profile": "swarm",
-                   "deployment": deployment}  # fmt: skip
-        (node,) = _launch(module, **context)
-        (values,) = node["parameters"]
-        assert not set(LAYERS) & set(values)
-        performed = _performed(values, context)
-        assert performed["deployment"] == deployment
-        assert (performed["genome"], performed["profile"]) == (SWARM, "swarm")
-        assert performed["decide_on_timer"] is True and performed["scan_kind"] == "lidar"
+    (node,) = _launch(module, robot="turtlebot3_burger")
+    preset, given = node["parameters"]
+    assert str(preset).endswith("config/turtlebot3_burger.yaml") and given == {}
+    assert node["namespace"] == "" and ("scan", "scan") in node["remappings"]
+    nodes = _launch(module, robot="turtlebot3_waffle", namespace="tb3_0", genome=UGV,
+                    deployment="my_deployment.yaml", goal_radius="0.4", scan="/lidar",
+                    params_file="mine.yaml", rviz="true")  # fmt: skip
+    planner, rviz = nodes
+    preset, mine, given = planner["parameters"]
+    assert str(preset).endswith("turtlebot3_waffle.yaml") and mine == "mine.yaml"
+    assert given == {"genome": UGV, "deployment": "my_deployment.yaml", "goal_radius": 0.4}
+    assert planner["namespace"] == "tb3_0" and ("scan", "/lidar") in planner["remappings"]
+    assert rviz["package"] == "rviz2" and rviz["namespace"] == "tb3_0"
+    assert str(rviz["arguments"][1]).endswith("config/mentor.rviz")
+    with pytest.raises(MentorError, match="robot:=tb4: no preset"):
+        _launch(module, robot="tb4")
+    with pytest.raises(MentorError, match="goal_radius:=far: expected a number"):
+        _launch(module, goal_radius="far")
 
 
 def test_the_launch_files_refuse_a_mistyped_argument_in_one_line(

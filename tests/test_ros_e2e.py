@@ -32,6 +32,7 @@ from tf_support import tf_tree
 from mentor_core.files.bags import read_episode_bag
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.runtime.recording import recorded_episodes
+from mentor_core.runtime.scenario_plan import ScenarioPlan, load_scenario_source
 from mentor_core.runtime.simulator import RobotSetup, run_reference_episode
 from mentor_core.runtime.wiring import Wiring
 from mentor_core.sim.lidar import LidarSpec
@@ -41,7 +42,7 @@ from mentor_core.sim.scan_adapter import LidarMount
 from mentor_core.sim.scenarios import training_scenarios
 from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import save_world
-from mentor_planner_node.planner import PlannerNode
+from mentor_planner_node.planner import PlannerNode, TFMessage
 from mentor_sim_node.sim import SimNode
 
 pytestmark = pytest.mark.ros
@@ -124,17 +125,16 @@ def test_robots_of_both_kinds_share_a_world_through_ros(graph: Graph) -> None:
     )
     planners = [_planner(graph, ns, robot) for ns, robot in robots.items()]
     assert graph.spin_until(lambda: sim.finished)
-    scenarios = training_scenarios(get_profile("ugv"), 0)  # the simulator's default source
+    # the simulator's default source: the UGV's training scenarios, the Swarm-Robot's own
+    # missions in that world
+    plan = ScenarioPlan(load_scenario_source(profile=get_profile("ugv"), seed=0),
+                        [(ns, get_profile(robot)) for ns, robot in robots.items()])  # fmt: skip
     policies = {
         ns: GenomePlanner.load(_genome(robot), robot).decide for ns, robot in robots.items()
     }
     for episode in range(2):
-        setups = [
-            RobotSetup(ns, get_profile(robot), scenarios[2 * episode + j].start,
-                       scenarios[2 * episode + j].goal, 2 * episode + j)
-            for j, (ns, robot) in enumerate(robots.items())
-        ]
-        ref = run_reference_episode(scenarios[0].world, setups, policies)
+        setups = plan.setups(episode)
+        ref = run_reference_episode(plan.source.world, setups, policies)
         got = {o.robot: o for o in sim.outcomes if o.episode == episode}
         assert set(got) == set(robots)
         for ns, o in got.items():
@@ -220,8 +220,9 @@ MAP_TO_ODOM = Transform2D(1.0, -0.5, 0.3)
 USER_GOAL = (10.0, 7.5)
 
 
+@pytest.mark.parametrize("frames", ["tf", "parameters"])
 def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
-    graph: Graph, tmp_path: Path
+    graph: Graph, tmp_path: Path, frames: str
 ) -> None:
     """The simulator publishes a 360-ray lidar scan from a frame off the body centre, with
     ``odom`` apart from ``map``; the planner reads that scan (not the per-sensor one); a plain
@@ -229,7 +230,13 @@ def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
     equals the in-process one (the planner's derivation of its readings from the same float32
     scan, pose and goal in ``odom``) within 1e-9 m, in fact bit for bit up to the rounding of
     turning the recorded odometry back into ``map``. The recording's TF tree, read with
-    rosbags' reader, links map, odom, the robot and its sensor and lidar frames."""
+    rosbags' reader, links map, odom, the robot and its sensor and lidar frames. With ``tf``
+    the planner takes the lidar's mount and ``map -> odom`` from the simulator's live ``/tf``
+    and ``/tf_static`` (its own TF buffer: ``tf2_ros`` has no wheel), with ``parameters`` from
+    its parameters (issue 56, point 5)."""
+    if frames == "tf" and TFMessage is None:
+        pytest.skip("tf2_msgs was not generated (no C compiler at bootstrap: "
+                    "interfaces/README.md)")
     ugv = get_profile("ugv")
     scenario = training_scenarios(ugv, 0, n=9)[8]
     world = scenario.world
@@ -244,7 +251,9 @@ def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
     planner = graph.add(PlannerNode(
         context=graph.context, namespace="/robot_0",
         parameter_overrides=params(genome=str(_genome("ugv")), profile="ugv", use_sim_time=True,
-                                   lidar_mount=mount, map_to_odom=offset),
+                                   **({"use_tf": True} if frames == "tf" else
+                                      {"use_tf": False, "lidar_mount": mount,
+                                       "map_to_odom": offset})),
         cli_args=["--ros-args", "-r", "scan:=lidar/scan"],
     ))
     user = graph.probe("rviz").create_publisher(PoseStamped, "/goal_pose", 10)
@@ -277,6 +286,7 @@ def test_a_lidar_robot_reaches_a_goal_from_a_plain_publisher_as_in_process(
     np.testing.assert_array_equal([c.linear_x for c in run.commands], vx)  # the very same
     np.testing.assert_array_equal([c.angular_z for c in run.commands], wz)
     assert planner.decisions == ref.steps and planner.zero_commands == 0
+    assert planner.frames.uses_tf == (frames == "tf")
     # the per-sensor readings would have been others: the lidar path was the one taken
     plain = run_reference_episode(world, [setup], {"robot_0": reference.decide},
                                   wiring=Wiring(map_to_odom=MAP_TO_ODOM))["robot_0"]
@@ -337,3 +347,21 @@ def test_a_continuous_simulator_and_a_planner_on_its_own_timer(
     else:
         assert planner.repeats == 0
         assert np.median(gaps) > 0.5  # one a decision: the robot stood for half of each
+
+
+def test_the_two_robot_demo_sends_each_robot_on_missions_of_its_own_scale() -> None:
+    """Failed before: the Swarm-Robot got the UGV's 12 m missions and timed out in every
+    episode (issue 56, point 7). The README's two-robot command, three episodes."""
+    exe = ROOT / "ros2_ws/install/mentor_bringup/lib/mentor_bringup/demo"
+    proc = subprocess.run(
+        [str(exe), "--robots", "ugv", "swarm", "--deployment", "shipped",
+         "--genome", "ugv=planners/ugv-paper-dual-s1.json",
+         "--genome", "swarm=planners/swarm-paper-dual-s1.json",
+         "--continuous", "--real-time-factor", "10", "--episodes", "3", "--timeout", "100"],
+        cwd=ROOT, env=workspace_env(), capture_output=True, timeout=150,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr.decode()[-2000:]
+    lines = proc.stdout.decode().strip().splitlines()
+    assert len(lines) == 6, lines
+    for robot in ("ugv_0", "swarm_0"):
+        assert any(f" {robot} reached " in line for line in lines), lines

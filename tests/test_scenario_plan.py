@@ -118,3 +118,26 @@ def test_plan_fails_when_a_robot_can_start_nowhere(
         ScenarioPlan(src, [("a", UGV)])
     with pytest.raises(ConfigError):
         ScenarioPlan(src, [])
+
+
+def test_robots_of_another_profile_get_missions_of_their_own_scale() -> None:
+    """Failed before: a Swarm-Robot beside a UGV was sent on the UGV's 12 m missions."""
+    source = load_scenario_source(profile=UGV, seed=3)
+    plan = ScenarioPlan(source, [("ugv_0", UGV), ("swarm_0", SWARM)])
+    ugv, swarm = plan.missions
+    assert ugv == source.scenarios and len(swarm) == len(ugv)
+    reach = [np.hypot(s.goal[0] - s.start[0], s.goal[1] - s.start[1]) for s in swarm]
+    assert max(reach) <= SWARM.uncapped_distance
+    assert all(s.world is source.world for s in swarm)  # one world, shared
+    assert plan.setups(0)[1].goal in [s.goal for s in swarm]
+    again = ScenarioPlan(load_scenario_source(profile=UGV, seed=3),
+                         [("ugv_0", UGV), ("swarm_0", SWARM)])  # fmt: skip
+    assert again.missions[1] == swarm  # drawn from the seed
+
+
+def test_scenarios_of_a_file_are_every_robots(tmp_path: Path, world: World,
+                                              scenarios: list[Scenario]) -> None:  # fmt: skip
+    save_world(tmp_path / "w.yaml", world, scenarios)
+    source = load_scenario_source(world_file=tmp_path / "w.yaml")
+    plan = ScenarioPlan(source, [("a", SWARM), ("b", UGV)])
+    assert plan.missions[0] == plan.missions[1] == source.scenarios

@@ -358,6 +358,13 @@ def test_bad_parameters_are_one_line_errors(graph: Graph, world_file: Path) -> N
         _sim(graph, world=str(world_file), map_yaml="m.yaml")
     with pytest.raises(SimSetupError, match="record_metadata: not a JSON object"):
         _sim(graph, world=str(world_file), record_metadata="[1, 2]")
+    # periods that would take a whole core, a map that would exhaust memory (issue 56)
+    with pytest.raises(SimSetupError, match=r"control_period: a period of 0\.0001 s is shorter"):
+        _sim(graph, world=str(world_file), control_period=0.0001)
+    with pytest.raises(SimSetupError, match=r"scan_rate: a period of 0\.001 s"):
+        _sim(graph, world=str(world_file), continuous=True, scan_rate=1000.0)
+    with pytest.raises(SimSetupError, match=r"map_resolution: a map of the world .* more than"):
+        _sim(graph, world=str(world_file), map_resolution=0.001)
 
 
 @pytest.mark.parametrize("case", ["start inside an obstacle", "truncated bag", "truncated map"])

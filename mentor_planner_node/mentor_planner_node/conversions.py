@@ -94,13 +94,19 @@ def pose_from_odometry(msg: Odometry) -> tuple[float, float, float]:
     return float(p.x), float(p.y), quaternion_to_yaw(q.x, q.y, q.z, q.w)
 
 
-def goal_request(msg: PoseStamped) -> tuple[str, tuple[float, float]]:
-    """``(frame, (x, y))`` of a goal (m; any frame, empty: the map's). ``ValueError`` for a
-    non-finite position."""
+def goal_request(msg: PoseStamped) -> tuple[str, tuple[float, float], float | None]:
+    """``(frame, (x, y), yaw)`` of a goal (m, rad; any frame, empty: the map's; yaw None for
+    an orientation that is all zeros, as an unset one is). ``ValueError`` for a non-finite
+    position or orientation."""
     x, y = float(msg.pose.position.x), float(msg.pose.position.y)
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ValueError("goal position is not finite")
-    return str(msg.header.frame_id), (x, y)
+    q = msg.pose.orientation
+    quat = [float(q.x), float(q.y), float(q.z), float(q.w)]
+    if not all(math.isfinite(v) for v in quat):
+        raise ValueError("goal orientation is not finite")
+    yaw = quaternion_to_yaw(*quat) if any(quat) else None
+    return str(msg.header.frame_id), (x, y), yaw
 
 
 def is_profile_scan(msg: LaserScan, profile: RobotProfile) -> bool:
@@ -228,6 +234,14 @@ def path_from_msg(msg: Path) -> NDArray[np.float64]:
     if not np.isfinite(points).all():
         raise ValueError("path holds a non-finite point")
     return points
+
+
+def pose_stamped(pose: ArrayLike, frame_id: str, stamp: Time) -> PoseStamped:
+    """A ``geometry_msgs/PoseStamped`` of the planar pose ``(x, y, yaw)`` (m, rad)."""
+    x, y, yaw = (float(v) for v in np.asarray(pose, dtype=np.float64).reshape(3))
+    return PoseStamped(header=Header(stamp=stamp, frame_id=frame_id),
+                       pose=Pose(position=Point(x=x, y=y, z=0.0),
+                                 orientation=quaternion_msg(yaw)))  # fmt: skip
 
 
 def path_msg(points: ArrayLike, stamp: Time, frame_id: str = MAP_FRAME) -> Path:

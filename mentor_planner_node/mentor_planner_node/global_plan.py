@@ -120,7 +120,10 @@ class GlobalPlan:
                 raise PlanSetupError(f"scan_map_origin: {origin} is not [x, y] in m")
             if size > 0.0:
                 corner = (origin[0], origin[1])
-                self.planner = ScanGuidedPlanner(planner, self._config, size, corner)
+                try:
+                    self.planner = ScanGuidedPlanner(planner, self._config, size, corner)
+                except ValueError as err:  # cells that would exhaust memory
+                    raise PlanSetupError(f"scan_map_size: {err}") from None
             return
         config = guide_config(
             planner.profile,
@@ -148,8 +151,9 @@ class GlobalPlan:
 
     def waiting_for(self) -> str:
         """What the node waits for before it decides (one line)."""
-        return "no arena for the scan map yet (the deployment's scan_map)" if self.scan_map else (
-            "no map or path to follow yet (global_plan)")
+        return ("no arena for the scan map yet (the deployment's scan_map: beside this "
+                "project's simulator; on another robot set scan_map_size and scan_map_origin)"
+                if self.scan_map else "no map or path to follow yet (global_plan)")
 
     def on_arena(self, arena: Bounds | None) -> None:
         """The simulator's arena (in ``map``): the scan map's square where ``scan_map_size``
@@ -170,7 +174,11 @@ class GlobalPlan:
             return False
         xmin, ymin, xmax, ymax = bounds_in(self._arena, to_odom)
         size = max(xmax - xmin, ymax - ymin)
-        self.planner = ScanGuidedPlanner(self._genome, self._config, size, (xmin, ymin))
+        try:
+            self.planner = ScanGuidedPlanner(self._genome, self._config, size, (xmin, ymin))
+        except ValueError as err:  # an arena too large for the scan map's cells
+            self._log.error(f"no scan map of the arena: {err}", throttle_duration_sec=WARN_EVERY_S)
+            return False
         self._log.info(f"scan map of the arena: {size:g} m from ({xmin:g}, {ymin:g}) in "
                        f"{self._frames.odom_frame!r}")  # fmt: skip
         return True
@@ -184,6 +192,17 @@ class GlobalPlan:
             self.planner.reset()
         else:
             self._genome.reset()
+
+    def goal_fault(self, goal: ArrayLike) -> str:
+        """Why ``goal`` (x, y, odometry frame) cannot be reached on the map or the scan map
+        (one line), or '' (also while nothing is planned on yet). LookupError: ``map ->
+        odom`` is not known, for a map."""
+        if self.planner is None:
+            return ""
+        if isinstance(self.planner, GuidedPlanner):
+            to_map = self._frames.transform(self._frames.map_frame, self._frames.odom_frame)
+            goal = to_map.apply_point(np.asarray(goal, dtype=np.float64).reshape(2).tolist())
+        return self.planner.goal_fault(goal)
 
     def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
         """The guided decision for ``pose`` and ``goal`` in the odometry frame (module

@@ -8,32 +8,42 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
+from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from mentor_core import (
     MAP_FRAME,
+    MIN_PERIOD,
     Deployed,
     Deployment,
     Genome,
+    GoalRules,
     LidarMount,
     MentorError,
     RobotProfile,
     Transform2D,
     VelocityLimits,
     deployed_genome,
+    footprint_box,
     get_profile,
+    goal_rules,
     load_deployment,
+    period_fault,
 )
 
+PACKAGE = "mentor_planner_node"
 #: periods without an answer before the watchdog fires, when ``stale_timeout`` is 0
 STALE_PERIODS = 3.0
 SCAN_KINDS = ("auto", "sensors", "lidar")
 #: Hz at which a planner deciding on its timer repeats its cmd_vel (bases time out at 0.5 s)
 REPEAT_RATE = 10.0
+#: s, Nav2's progress checker's default movement_time_allowance
+MOVEMENT_TIME_S = 10.0
 
 
 class PlannerSetupError(MentorError):
@@ -65,6 +75,19 @@ class PlannerParameters:
     repeat_rate: float = REPEAT_RATE
     limits: VelocityLimits = field(default_factory=VelocityLimits)
     cmd_vel_stamped: bool = False
+    yaw_goal_tolerance: float = 0.0
+    #: the progress checker's movement (m; 0: half the goal radius) and time (s; 0: off)
+    required_movement_radius: float = 0.0
+    movement_time_allowance: float = MOVEMENT_TIME_S
+    time_limit: float = 0.0
+
+    def goal_rules(self, radius: float) -> GoalRules:
+        """When a goal of the goal radius ``radius`` is reached or given up."""
+        return goal_rules(self.profile, radius, self.limits, self.control_period,
+                          yaw_tolerance=self.yaw_goal_tolerance,
+                          movement_radius=self.required_movement_radius,
+                          movement_time=self.movement_time_allowance,
+                          time_limit=self.time_limit)  # fmt: skip
 
 
 def _descriptor(text: str, low: float | None = None, runtime: bool = False) -> Any:
@@ -148,10 +171,41 @@ def _declarations() -> list[tuple[str, Any, Any]]:
                                        "(0: none)", low=0.0)),
         ("acc_lim_theta", 0.0, _descriptor("rad/s^2, largest change of the turn rate per "
                                            "second (0: none)", low=0.0)),
+        ("footprint", "", _descriptor("the robot's outline in its base frame, as Nav2's: "
+                                      "'[[x, y], [x, y], ...]' m; the box holding it is kept "
+                                      "clear ('' : robot_radius, or the profile's body)")),
+        ("robot_radius", 0.0, _descriptor("m, a round robot's radius where footprint is '' "
+                                          "(0: the profile's body)", low=0.0)),
+        ("yaw_goal_tolerance", 0.0, _descriptor("rad: a goal's heading is turned to, in place, "
+                                                "within this (0: headings ignored)", low=0.0)),
+        ("required_movement_radius", 0.0,
+         _descriptor("m the robot must move within movement_time_allowance, or the goal is "
+                     "aborted (Nav2's progress checker; 0: half the goal radius)", low=0.0)),
+        ("movement_time_allowance", MOVEMENT_TIME_S,
+         _descriptor("s allowed to move required_movement_radius (0: no progress check)",
+                     low=0.0)),
+        ("time_limit", 0.0, _descriptor("s a goal may take before it is aborted (0: from its "
+                                        "distance at the rated speed, docs/ros.md)", low=0.0)),
         ("cmd_vel_stamped", False, _descriptor("publish geometry_msgs/TwistStamped on cmd_vel "
                                                "(Jazzy's diff_drive_controller) instead of "
                                                "Twist")),
     ]
+
+
+def resolve_genome(genome: str) -> str:
+    """``genome`` as given where that file exists (or it is ''), else the shipped planner of
+    that name installed with the package (``ugv-paper-dual-s1`` or
+    ``planners/ugv-paper-dual-s1.json`` from any working directory), else as given (its
+    loading then names the missing file)."""
+    if not genome or Path(genome).exists():
+        return genome
+    try:
+        share = Path(get_package_share_directory(PACKAGE))
+    except (PackageNotFoundError, OSError):  # not installed with colcon: paths as given
+        return genome
+    name = Path(genome).name
+    installed = share / "planners" / (name if name.endswith(".json") else name + ".json")
+    return str(installed) if installed.is_file() else genome
 
 
 def _transform(values: Mapping[str, Any], key: str) -> Transform2D:
@@ -170,11 +224,15 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
     settings = [str(v) for v in values.get("deployment_set") or []]
     deployment = load_deployment(str(values["deployment"]), profile.name, settings,
                                  "deployment_set")[0]
-    genome = str(values["genome"])
+    genome = resolve_genome(str(values["genome"]))
+    try:
+        box = footprint_box(str(values["footprint"]), float(values["robot_radius"]))
+    except ValueError as err:
+        raise PlannerSetupError(str(err)) from None
     loaded: Genome | None = None
     deployed: Deployed | None = None
     if genome:
-        loaded, deployed = deployed_genome(genome, profile.name, deployment)
+        loaded, deployed = deployed_genome(genome, profile.name, deployment, box)
     period = profile.control_period if deployed is None else deployed.profile.control_period
     stale = float(values["stale_timeout"]) or STALE_PERIODS * period
     if stale <= period:
@@ -184,6 +242,11 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
     repeat = float(values["repeat_rate"])
     if not (repeat >= 0.0 and repeat < float("inf")):
         raise PlannerSetupError(f"repeat_rate: {repeat} is not a rate >= 0 Hz")
+    for name, seconds in (("repeat_rate", 1.0 / repeat if repeat else MIN_PERIOD),
+                          ("control period", period)):
+        fault = period_fault(name, seconds)
+        if fault:
+            raise PlannerSetupError(fault)
     try:
         limits = VelocityLimits(**{k: float(values[k]) for k in
                                    ("max_vel_x", "max_vel_theta", "acc_lim_x", "acc_lim_theta")})
@@ -213,6 +276,10 @@ def check_parameters(values: Mapping[str, Any]) -> PlannerParameters:
         repeat_rate=repeat,
         limits=limits,
         cmd_vel_stamped=bool(values["cmd_vel_stamped"]),
+        yaw_goal_tolerance=float(values["yaw_goal_tolerance"]),
+        required_movement_radius=float(values["required_movement_radius"]),
+        movement_time_allowance=float(values["movement_time_allowance"]),
+        time_limit=float(values["time_limit"]),
     )
 
 

@@ -32,9 +32,12 @@ map of its own scans, which it publishes on ``scan_map`` (:mod:`.global_plan`).
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
-from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped, Vector3
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
@@ -56,14 +59,17 @@ from mentor_core import (
     Bounds,
     DecisionGate,
     GenomePlanner,
+    GoalStep,
+    GoalTracker,
     PlannerFrames,
+    TfBuffer,
     Transform2D,
     bounds_fault,
     limited_velocity,
     readings_fault,
     readings_from_scan,
 )
-from mentor_planner_node import conversions, global_plan
+from mentor_planner_node import conversions, global_plan, navigate_action
 from mentor_planner_node.params import (
     PlannerSetupError,
     check_goal_radius,
@@ -76,11 +82,18 @@ try:  # a full ROS 2 install has tf2_ros; the pip-only one has no wheel
 except ImportError:  # pragma: no cover - depends on the installation
     Buffer = TransformListener = None
     TransformException = LookupError
+try:  # a full install, or generated in the workspace (interfaces/README.md)
+    from tf2_msgs.msg import TFMessage
+except ImportError:  # pragma: no cover - depends on the installation
+    TFMessage = None
 
 __all__ = ["NODE_NAME", "QOS_COMMAND", "QOS_GOAL", "QOS_LATCHED", "PlannerNode",
            "PlannerSetupError", "main"]  # fmt: skip
 
 NODE_NAME = "mentor_planner"
+_NS_PER_S = 1e9
+#: m: a goal this near the simulator's episode goal is that goal (it comes through frames)
+SAME_GOAL_M = 1e-6
 COMMAND_DEPTH = 10
 EVENT_DEPTH = 10
 LATCHED_DEPTH = 1
@@ -96,6 +109,8 @@ QOS_LATCHED = QoSProfile(
 #: goals from ordinary publishers (RViz, Foxglove, a plain rclpy publisher)
 QOS_GOAL = QoSProfile(depth=GOAL_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
 QOS_COMMAND = QoSProfile(depth=COMMAND_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
+#: /tf as tf2_ros's listener subscribes it
+QOS_TF = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 QOS_EVENTS = QoSProfile(depth=EVENT_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
 
 
@@ -138,6 +153,23 @@ class PlannerNode(Node):
         self.repeats = 0
         self._last_cmd: Twist | None = None  # what a repeat sends; None: nothing
         self.goals_reached = 0
+        self.goals_aborted = 0
+        #: the goal being driven to, judged (None before its first observation)
+        self.tracker: GoalTracker | None = None
+        self._goal_yaw: float | None = None  # the held goal's heading (odometry frame)
+        self._episode_goal: tuple[float, float] | None = None  # the simulator's episode goal
+        #: m from the robot to the goal at the last decision (feedback)
+        self.distance_remaining = math.nan
+        #: called with (outcome, text) when a goal ends (the NavigateToPose server)
+        self.on_goal_end: Callable[[str, str], None] | None = None
+        #: called with (pose, distance) after each decision (the server's feedback)
+        self.on_decision: Callable[[Any, float], None] | None = None
+        self._status_pub = self.create_publisher(String, "goal_status", QOS_LATCHED)
+        #: steady ns of each timer's last run, and whether it judged nothing then
+        self._timer_runs: dict[str, tuple[int, bool]] = {}
+        #: a goal waiting for TF: frame, xy, yaw, episode, why, since (steady ns)
+        self._pending: tuple[str, Any, float | None, bool, str, int] | None = None
+        self._episode_in_map: tuple[float, float] | None = None  # the last episode's goal
 
         self._cmd_pub = self.create_publisher(TwistStamped if p.cmd_vel_stamped else Twist,
                                               "cmd_vel", QOS_COMMAND)  # fmt: skip
@@ -167,6 +199,8 @@ class PlannerNode(Node):
             self.create_timer(1.0 / p.repeat_rate, self._repeat) if repeating else None
         )
         self.add_on_set_parameters_callback(self._on_parameters)
+        #: Nav2's NavigateToPose on ``navigate_to_pose``, where nav2_msgs is installed
+        self.navigate = navigate_action.attach(self)
         if self.planner is None:
             self.get_logger().warning(
                 "no genome given (parameter 'genome'): every answer is a zero Twist"
@@ -179,23 +213,50 @@ class PlannerNode(Node):
                 + ("frames from TF" if self.frames.uses_tf else "frames from parameters")
             )
 
+    def destroy_node(self) -> None:
+        """Take the action server down with the node."""
+        if getattr(self, "navigate", None) is not None:
+            self.navigate.destroy()
+        super().destroy_node()
+
     # ------------------------------------------------------------------ frames
 
     def _tf(self) -> Any:
-        """The TF lookup where tf2_ros is installed (and ``use_tf``), else None."""
-        if Buffer is None or not self.params.use_tf:
+        """The TF lookup (``use_tf``): ``tf2_ros``'s buffer where it is installed, else a
+        buffer of its own on ``/tf`` and ``/tf_static`` where ``tf2_msgs`` is
+        (:class:`mentor_core.TfBuffer`, the same lookups at the latest time); None without
+        either (frames from the parameters)."""
+        if not self.params.use_tf:
             return None
-        self._tf_buffer = Buffer()
-        self._tf_listener = TransformListener(self._tf_buffer, self)
+        if Buffer is not None:
+            self._tf_buffer = Buffer()
+            self._tf_listener = TransformListener(self._tf_buffer, self)
 
-        def lookup(target: str, source: str) -> tuple[Transform2D, bool]:
+            def lookup(target: str, source: str) -> tuple[Transform2D, bool]:
+                try:
+                    found = self._tf_buffer.lookup_transform(target, source, Time())  # latest
+                except TransformException as err:
+                    raise LookupError(str(err)) from None
+                return conversions.planar(found)
+
+            return lookup
+        if TFMessage is None:
+            return None
+        self._own_tf = TfBuffer()
+        self._tf_subs = [self.create_subscription(TFMessage, "/tf", self._on_tf, QOS_TF),
+                         self.create_subscription(TFMessage, "/tf_static", self._on_tf,
+                                                  QOS_LATCHED)]  # fmt: skip
+        return self._own_tf.lookup
+
+    def _on_tf(self, msg: Any) -> None:
+        for link in msg.transforms:
             try:
-                found = self._tf_buffer.lookup_transform(target, source, Time())  # latest
-            except TransformException as err:
-                raise LookupError(str(err)) from None
-            return conversions.planar(found)
-
-        return lookup
+                pose, inverted = conversions.planar(link)
+                self._own_tf.set(link.header.frame_id, link.child_frame_id, pose, inverted)
+            except ValueError as err:
+                self._warn(f"transform {link.header.frame_id} -> {link.child_frame_id} "
+                           f"refused: {err}")
+        self._retry_goal()
 
     def _steady_ns(self) -> int:
         return int(self._steady.now().nanoseconds)
@@ -253,36 +314,105 @@ class PlannerNode(Node):
             self._stop(f"odometry refused: {err}")
             return
         self.frames.on_odometry(msg.header.frame_id, msg.child_frame_id, pose)
+        self._retry_goal()
         self.gate.on_odometry(conversions.ns_from_stamp(msg.header.stamp), pose,
                               self._steady_ns())  # fmt: skip
         if self._decide_timer is None:
             self._answer()
 
-    def _goal_in_odom(self, frame: str, xy: Any) -> tuple[float, float] | None:
-        """A goal turned into the odometry frame, or None (refused: a warning says why)."""
+    def _goal_in_odom(self, frame: str, xy: Any) -> tuple[tuple[float, float] | None, str]:
+        """A goal turned into the odometry frame, or None and why it is refused. LookupError:
+        its frame is not linked to the odometry frame (yet)."""
         try:
             odom, in_map = self.frames.goal(frame, xy)
-        except (LookupError, ValueError) as err:
-            self.get_logger().warning(f"goal refused: {err}")
-            return None
-        why = bounds_fault(in_map, self.arena) if in_map is not None else ""
-        if why:
-            self.get_logger().warning(why)
-            return None
-        return odom
-
-    def _on_goal(self, msg: PoseStamped) -> None:
-        try:
-            frame, xy = conversions.goal_request(msg)
         except ValueError as err:
-            self.get_logger().warning(f"goal refused: {err}")
-            return
-        goal = self._goal_in_odom(frame, xy)
-        if goal is not None and self.gate.on_goal(goal):  # the same goal twice: one goal
+            return None, f"goal refused: {err}"
+        why = bounds_fault(in_map, self.arena) if in_map is not None else ""
+        return (None, why) if why else (odom, "")
+
+    def request_goal(self, frame: str, xy: Any, yaw: float | None = None,
+                     episode: bool = False, renew: bool = False) -> str:  # fmt: skip
+        """Drive to the goal ``xy`` (m) given in ``frame`` (empty: the map's), with the
+        heading ``yaw`` (rad; None: any) where ``yaw_goal_tolerance`` is set; '' when it is
+        accepted (or is the goal already held), else why it is refused (one line, logged and
+        published on ``goal_status``). A goal held before ends ``preempted``. A goal whose
+        frame TF does not link yet (at start-up) waits for it, ``stale_timeout`` at most;
+        ``episode``: the simulator's episode goal, which the simulator judges; ``renew``: a
+        new goal even where it is the goal held (an action's new goal)."""
+        # the simulator sends its episode's goal on the goal topic too
+        episode = episode or (frame in ("", self.frames.map_frame) and
+                              self._episode_in_map is not None and
+                              math.dist(self._episode_in_map, xy) < SAME_GOAL_M)
+        try:
+            goal, why = self._goal_in_odom(frame, xy)
+            heading = None if yaw is None or goal is None else self.frames.heading(frame, yaw)
+            if goal is not None and self.global_plan is not None:
+                why = self.global_plan.goal_fault(goal)
+        except LookupError as err:
+            if self._pending is None:
+                self.get_logger().info(f"goal waits for its frame on TF: {err}")
+            since = self._steady_ns() if self._pending is None else self._pending[-1]
+            self._pending = (frame, tuple(xy), yaw, episode, str(err), since)
+            return ""
+        self._pending = None
+        if why and not why.startswith("goal refused"):
+            why = f"goal refused: {why}"
+        if goal is None or why:
+            self.get_logger().warning(why)
+            self._status(why)
+            return why
+        held = self.gate.goal
+        if renew and held is not None:
+            self._finish("preempted", "a new goal came", stop=False)
+            self.gate.end_goal()
+            held = None
+        if self.gate.on_goal(goal):  # the same goal twice: one goal
+            if held is not None:
+                self._finish("preempted", "a new goal came", stop=False)
+            self._goal_yaw = heading
+            self._episode_goal = goal if episode else None
             self.get_logger().info(
                 f"new goal ({xy[0]:.3f}, {xy[1]:.3f}) in {frame or self.frames.map_frame!r}"
             )
+            self._status(f"accepted ({goal[0]:.3f}, {goal[1]:.3f})")
             self._answer()
+        return ""
+
+    @property
+    def goal_waits(self) -> bool:
+        """A goal waits for its frame on TF (:meth:`request_goal`)."""
+        return self._pending is not None
+
+    def _retry_goal(self) -> None:
+        """Take a goal that waits for TF now, or refuse it once it has waited too long."""
+        if self._pending is None:
+            return
+        frame, xy, yaw, episode, err, since = self._pending
+        if self._steady_ns() - since <= self.params.stale_timeout * _NS_PER_S:
+            self.request_goal(frame, xy, yaw, episode)
+            return
+        self._pending = None
+        why = f"goal refused: {err} (waited {self.params.stale_timeout:g} s for TF)"
+        self.get_logger().warning(why)
+        self._status(why)
+        if self.on_goal_end is not None:
+            self.on_goal_end("refused", why)
+
+    def cancel_goal(self) -> bool:
+        """End the goal held (``canceled``: one zero Twist, then quiet); False without one."""
+        if self.gate.goal is None:
+            return False
+        self._finish("canceled", "goal canceled")
+        return True
+
+    def _on_goal(self, msg: PoseStamped) -> None:
+        try:
+            frame, xy, yaw = conversions.goal_request(msg)
+        except ValueError as err:
+            self.get_logger().warning(f"goal refused: {err}")
+            self._status(f"goal refused: {err}")
+            return
+        self.request_goal(frame, xy, yaw)
 
     def _on_event(self, msg: String) -> None:
         try:
@@ -290,9 +420,22 @@ class PlannerNode(Node):
         except ValueError as err:
             self._warn(f"event rejected: {err}")
             return
-        if goal is not None:  # the simulator's goals are in map
-            goal = self._goal_in_odom(self.frames.map_frame, goal)
+        in_map, goal = goal, None
+        if kind == "started":
+            self._episode_in_map = in_map
+        if in_map is not None:  # the simulator's goals are in map
+            try:
+                goal, why = self._goal_in_odom(self.frames.map_frame, in_map)
+            except LookupError as err:  # map -> odom not on TF yet: the goal waits for it
+                why, self._pending = "", (self.frames.map_frame, in_map, None, True, str(err),
+                                          self._steady_ns())  # fmt: skip
+            if why:
+                self.get_logger().warning(why)
+        if kind == "started":  # the simulator's episode: it judges the goal's end itself
+            self._episode_goal, self._goal_yaw = goal, None
         self.gate.on_event(kind, self._steady_ns(), goal)
+        if self.gate.goal is None:
+            self.tracker = None
         self._last_cmd = None  # an episode began or ended: the last command is not its own
         self._answer()
 
@@ -319,11 +462,12 @@ class PlannerNode(Node):
         obs = self.gate.take(self._steady_ns())
         if obs is None or obs.goal is None:
             return
-        if self.gate.arrived(obs.pose, self.goal_radius):
-            self.goals_reached += 1
-            self.get_logger().info("goal reached: stopping")
-            self._send(Twist())
-            self._last_cmd = None  # then quiet: nothing is repeated, a teleoperator may drive
+        step = self._goal_step(obs.goal, obs.pose)
+        if step.kind in ("reached", "aborted"):
+            self._finish(step.kind, "goal reached" if step.kind == "reached" else step.reason)
+            return
+        if step.kind == "turn":  # at the goal: turning in place to its heading
+            self._send(self._limited(Twist(angular=Vector3(z=step.turn))))
             return
         if self.planner is None:
             self._send_zero("no genome loaded")
@@ -335,22 +479,73 @@ class PlannerNode(Node):
             else:
                 self.global_plan.reset(obs.new_episode)
         try:
-            decide = decider.decide
-            dtheta, ds = decide(obs.ranges, obs.pose, obs.goal)
-            twist = conversions.twist_from_action(dtheta, ds, self.control_period)
-            if self.params.limits.any:  # the robot's limits, after the network
-                last = self._last_cmd or Twist()
-                v, w = limited_velocity((twist.linear.x, twist.angular.z), self.params.limits,
-                                        (last.linear.x, last.angular.z), self.control_period)
-                twist.linear.x, twist.angular.z = v, w
+            dtheta, ds = decider.decide(obs.ranges, obs.pose, obs.goal)
+            twist = self._limited(conversions.twist_from_action(dtheta, ds, self.control_period))
+            # a goal of a request the map now shows unreachable (an episode's is the
+            # simulator's to end)
+            fault = "" if self.global_plan is None or self._episode_goal is not None else (
+                self.global_plan.goal_fault(obs.goal))
         except (ValueError, LookupError) as err:  # LookupError: map -> odom for a global plan
             self._send_zero(f"no decision ({err})")
             return
+        if fault:
+            self._finish("aborted", fault)
+            return
         self._send(twist)
         self.decisions += 1
+        self.distance_remaining = step.distance
+        if self.on_decision is not None:
+            self.on_decision(obs.pose, step.distance)
+
+    def _goal_step(self, goal: tuple[float, float], pose: Any) -> GoalStep:
+        """Where the goal stands with the robot at ``pose`` (:class:`mentor_core.GoalTracker`,
+        started at the goal's first observation; an episode's goal is only ever reached)."""
+        now = self.get_clock().now().nanoseconds / _NS_PER_S
+        if self.tracker is None or self.tracker.goal != goal:
+            rules = self.params.goal_rules(self.goal_radius)
+            if self._episode_goal is not None:
+                rules = replace(rules, movement_radius=0.0, time_limit=math.inf)
+            self.tracker = GoalTracker(rules, goal, self._goal_yaw, pose, now)
+        return self.tracker.step(pose, now)
+
+    def _limited(self, twist: Twist) -> Twist:
+        """``twist`` within the robot's limits (after the network), from the last command."""
+        if self.params.limits.any:
+            last = self._last_cmd or Twist()
+            v, w = limited_velocity((twist.linear.x, twist.angular.z), self.params.limits,
+                                    (last.linear.x, last.angular.z), self.control_period)
+            twist.linear.x, twist.angular.z = v, w
+        return twist
+
+    def _finish(self, outcome: str, text: str, stop: bool = True) -> None:
+        """End the goal held: ``outcome`` is reached, aborted, canceled or preempted (by a
+        new goal, which drives on: no ``stop``); one zero Twist, then quiet (nothing is
+        repeated: a teleoperator may drive); logged and published on ``goal_status``."""
+        if outcome == "reached":
+            self.goals_reached += 1
+            self.get_logger().info("goal reached: stopping")
+        elif outcome == "aborted":
+            self.goals_aborted += 1
+            self.get_logger().warning(f"goal aborted: {text}: stopping")
+        else:
+            self.get_logger().info(text)
+        if stop:
+            self.gate.end_goal()
+            self._send(Twist())
+            self._last_cmd = None
+        self.tracker = None
+        self._status(outcome if outcome in ("reached", "canceled") else f"{outcome}: {text}")
+        if self.on_goal_end is not None:
+            self.on_goal_end(outcome, text)
+
+    def _status(self, text: str) -> None:
+        self._status_pub.publish(String(data=text))
 
     def _on_watchdog(self) -> None:
-        reason = self.gate.watchdog(self._steady_ns())
+        now = self._steady_ns()
+        if self._held_up("watchdog", self.control_period, now):
+            return
+        reason = self.gate.watchdog(now)
         if reason is not None and self.global_plan is not None and not self.global_plan.ready:
             reason = self.global_plan.waiting_for()
         if reason is not None:
@@ -375,10 +570,23 @@ class PlannerNode(Node):
         msg.header.frame_id = self.frames.base_frame
         self._cmd_pub.publish(msg)
 
+    def _held_up(self, timer: str, period: float, now: int) -> bool:
+        """Whether ``timer`` (of ``period`` s) runs late because the node was busy (a long
+        plan): the messages that came meanwhile wait behind it, so no stream can be judged
+        stale this round."""
+        last, skipped = self._timer_runs.get(timer, (None, False))
+        # once: a node held up round after round (a machine too slow) is judged as it is
+        late = last is not None and now - last > 2.0 * period * _NS_PER_S and not skipped
+        self._timer_runs[timer] = (now, late)
+        return late
+
     def _repeat(self) -> None:
+        now = self._steady_ns()
+        if self._held_up("repeat", 1.0 / self.params.repeat_rate, now):
+            return
         if self._last_cmd is None:
             return
-        stale = self.gate.stale(self._steady_ns())
+        stale = self.gate.stale(now)
         if stale is not None and self._last_cmd != Twist():
             self._stop(stale)  # never the last command again on data that stopped coming
             return
@@ -394,7 +602,11 @@ class PlannerNode(Node):
         self._warn(f"{reason}: sending a zero Twist")
 
     def _stop(self, reason: str) -> None:
-        """A zero Twist at once, with a line of its own (throttled apart from other lines)."""
+        """A zero Twist at once, with a line of its own (throttled apart from other lines);
+        without a goal only the line: nothing is driven, and a teleoperator may be."""
+        if self.gate.goal is None:
+            self.get_logger().warning(reason, throttle_duration_sec=WARN_EVERY_S)
+            return
         self._zero()
         self.get_logger().warning(f"{reason}: stopping", throttle_duration_sec=WARN_EVERY_S)
 

@@ -110,9 +110,11 @@ def _nodes(context: LaunchContext) -> list[Node]:
             )
         )
     if launch_flag("rviz", value["rviz"]):
-        config = os.path.join(get_package_share_directory("mentor_sim_node"), "config",
+        config = os.path.join(get_package_share_directory("mentor_ros_common"), "config",
                               "mentor.rviz")
+        # its robot topics are relative: it shows the first robot, in whose namespace it runs
         nodes.append(Node(package="rviz2", executable="rviz2", arguments=["-d", config],
+                          namespace=planners[0].namespace,
                           parameters=[{"use_sim_time": True}]))
     return nodes
 

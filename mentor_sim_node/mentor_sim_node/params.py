@@ -19,6 +19,7 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.node import Node
 
 from mentor_core import (
+    MIN_PERIOD,
     ContinuousConfig,
     LidarSpec,
     MentorError,
@@ -27,6 +28,7 @@ from mentor_core import (
     Transform2D,
     Wiring,
     get_profile,
+    period_fault,
 )
 
 #: parameters that may change while the node runs
@@ -255,6 +257,11 @@ def check_parameters(values: Mapping[str, Any], node_name: str) -> SimParameters
         )
     robots = tuple((n, get_profile(p)) for n, p in zip(names, profiles, strict=True))
     period = float(values["control_period"])
+    for name, seconds in (("control_period", period or MIN_PERIOD),
+                          ("resend_period", float(values["resend_period"]))):
+        fault = period_fault(name, seconds)
+        if fault:
+            raise SimSetupError(fault)
     if period > 0.0:  # the planners' period: a Twist then stands for period seconds
         robots = tuple((n, replace(p, control_period=period)) for n, p in robots)
     periods = {profile.control_period for _, profile in robots}
@@ -332,6 +339,12 @@ def _continuous(values: Mapping[str, Any]) -> ContinuousConfig | None:
     for key, rate in rates.items():
         if not rate > 0.0:
             raise SimSetupError(f"{key}: must be positive, got {rate}")
+    periods = {"physics_step": float(values["physics_step"]),
+               **{key: 1.0 / rate for key, rate in rates.items()}}
+    for key, seconds in periods.items():
+        fault = period_fault(key, seconds)
+        if fault:
+            raise SimSetupError(fault)
     try:
         return ContinuousConfig(
             physics_step=float(values["physics_step"]),

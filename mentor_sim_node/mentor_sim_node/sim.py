@@ -91,7 +91,11 @@ class SimNode(Node):
                                         clock=self._wall)
         self.add_on_set_parameters_callback(self._on_parameters)
         self._topics.markers_pub.publish(conversions.markers_from_world(session.world))
-        self._publish_map(source_map(source, p.map_resolution))
+        try:
+            grid = source_map(source, p.map_resolution)
+        except ValueError as err:  # cells that would exhaust memory
+            raise SimSetupError(f"map_resolution: {err}") from None
+        self._publish_map(grid)
         self._topics.publish_description(session.time_ns)
         self._topics.clock(session.time_ns)
         rtf = cfg.real_time_factor

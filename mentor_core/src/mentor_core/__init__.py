@@ -184,6 +184,7 @@ if TYPE_CHECKING:
     from mentor_core.runtime.decision_gate import (
         DecisionGate as DecisionGate,
     )
+    from mentor_core.runtime.footprint import footprint_box as footprint_box
     from mentor_core.runtime.goal_intake import (
         Bounds as Bounds,
     )
@@ -193,6 +194,10 @@ if TYPE_CHECKING:
     from mentor_core.runtime.goal_intake import (
         bounds_in as bounds_in,
     )
+    from mentor_core.runtime.goal_tracker import GoalRules as GoalRules
+    from mentor_core.runtime.goal_tracker import GoalStep as GoalStep
+    from mentor_core.runtime.goal_tracker import GoalTracker as GoalTracker
+    from mentor_core.runtime.goal_tracker import goal_rules as goal_rules
     from mentor_core.runtime.guided_planner import (
         GuidedPlanner as GuidedPlanner,
     )
@@ -237,6 +242,9 @@ if TYPE_CHECKING:
         simulator_period as simulator_period,
     )
     from mentor_core.runtime.ros_arguments import (
+        MIN_PERIOD as MIN_PERIOD,
+    )
+    from mentor_core.runtime.ros_arguments import (
         launch_count as launch_count,
     )
     from mentor_core.runtime.ros_arguments import (
@@ -246,7 +254,13 @@ if TYPE_CHECKING:
         launch_number as launch_number,
     )
     from mentor_core.runtime.ros_arguments import (
+        launch_numbers as launch_numbers,
+    )
+    from mentor_core.runtime.ros_arguments import (
         parameter_fault as parameter_fault,
+    )
+    from mentor_core.runtime.ros_arguments import (
+        period_fault as period_fault,
     )
     from mentor_core.runtime.scenario_plan import (
         ScenarioPlan as ScenarioPlan,
@@ -276,6 +290,9 @@ if TYPE_CHECKING:
     from mentor_core.runtime.simulator import (
         ReferenceSimulator as ReferenceSimulator,
     )
+    from mentor_core.runtime.streamed_robot import StreamedRobot as StreamedRobot
+    from mentor_core.runtime.streamed_robot import StreamSpec as StreamSpec
+    from mentor_core.runtime.tf_buffer import TfBuffer as TfBuffer
     from mentor_core.runtime.velocity_limits import (
         VelocityLimits as VelocityLimits,
     )

@@ -40,6 +40,9 @@ OCCUPIED = 100
 UNKNOWN = -1
 #: cells at or above this value are obstacles (Nav2's static layer ``lethal_cost_threshold``)
 LETHAL = 100
+#: the most cells a map may hold (a 100 m square of 0.05 m cells): a planner keeps several
+#: arrays a cell, so a finer map would exhaust memory before it answered
+MAX_CELLS = 4_000_000
 # rounding slack (in cells) when a box edge falls on a cell edge: 2.0 / 0.1 is 20.000000000000004
 _EDGE_SLACK = 1e-9
 
@@ -144,6 +147,34 @@ class OccupancyGrid:
         return self.to_map(np.stack([(c + 0.5), (r + 0.5)], axis=1) * self.resolution)
 
 
+def disc_touches(occupied: BoolArray, point: ArrayLike, radius: float) -> bool:
+    """Whether ``occupied`` ``(rows, cols)`` (cells of side 1, row 0 at y = 0) is True at the
+    cell holding ``point`` (x, y, in cells) or at a cell whose centre lies within ``radius``
+    cells of it: a robot of that radius cannot stand there."""
+    x, y = (float(v) for v in np.asarray(point, dtype=np.float64).reshape(2))
+    rows, cols = occupied.shape
+    r0, r1 = max(0, math.floor(y - radius)), min(rows, math.floor(y + radius) + 1)
+    c0, c1 = max(0, math.floor(x - radius)), min(cols, math.floor(x + radius) + 1)
+    if r0 < r1 and c0 < c1:
+        rr, cc = np.mgrid[r0:r1, c0:c1]
+        near = (cc + 0.5 - x) ** 2 + (rr + 0.5 - y) ** 2 <= radius * radius
+        if occupied[r0:r1, c0:c1][near].any():
+            return True
+    row, col = math.floor(y), math.floor(x)
+    return bool(0 <= row < rows and 0 <= col < cols and occupied[row, col])
+
+
+def grid_fault(size_x: float, size_y: float, resolution: float, what: str = "map") -> str:
+    """Why a grid of ``size_x`` x ``size_y`` m in cells of ``resolution`` m must not be
+    made (one line: it would hold more than :data:`MAX_CELLS` cells), or ''."""
+    cells = math.ceil(size_x / resolution) * math.ceil(size_y / resolution)
+    if cells <= MAX_CELLS:
+        return ""
+    return (f"{what} of {size_x:g} x {size_y:g} m in {resolution:g} m cells would hold "
+            f"{cells:.3g} cells, more than {MAX_CELLS:.3g} (a coarser resolution or a "
+            "smaller map)")
+
+
 def world_grid(world: World, resolution: float) -> OccupancyGrid:
     """The world rasterised (module docstring): ``ceil(size / resolution)`` cells a side,
     origin ``(0, 0, 0)``; a cell is occupied (100) when its square shares positive area with
@@ -151,6 +182,9 @@ def world_grid(world: World, resolution: float) -> OccupancyGrid:
     res = float(resolution)
     if not (math.isfinite(res) and res > 0.0):
         raise ValueError(f"resolution must be a positive finite number, got {resolution}")
+    fault = grid_fault(world.size, world.size, res, "a map of the world")
+    if fault:
+        raise ValueError(fault)
     n = max(1, math.ceil(world.size / res - _EDGE_SLACK))
     data = np.zeros((n, n), dtype=np.int8)
     lo, hi = _cell_span(world.obstacles, res)

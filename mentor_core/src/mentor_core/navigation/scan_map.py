@@ -20,7 +20,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mentor_core.navigation.follow import cumulative_length, point_at, progress
-from mentor_core.navigation.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
+from mentor_core.navigation.grid import (
+    FREE,
+    OCCUPIED,
+    UNKNOWN,
+    OccupancyGrid,
+    disc_touches,
+    grid_fault,
+)
 from mentor_core.navigation.guide import GuideConfig, PathGuide, guide_config
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.sensors import beam_frames, sensor_readings
@@ -52,6 +59,9 @@ class ScanMap:
             raise ValueError(f"size and resolution must be positive, got {size}, {resolution}")
         if not all(math.isfinite(v) for v in origin):
             raise ValueError(f"origin must be finite, got {origin}")
+        fault = grid_fault(size, size, resolution, "the scan map")
+        if fault:
+            raise ValueError(fault)
         self.resolution = float(resolution)
         self.origin = (float(origin[0]), float(origin[1]))
         n = max(1, math.ceil(size / resolution))
@@ -106,6 +116,16 @@ class ScanMap:
     def grid(self) -> OccupancyGrid:
         """The map as an :class:`OccupancyGrid` (its origin the map's)."""
         return OccupancyGrid(self.resolution, (*self.origin, 0.0), self.data)
+
+    def blocks(self, xy: ArrayLike, radius: float) -> bool:
+        """Whether a robot of ``radius`` m at ``xy`` would touch a cell this map holds
+        occupied (:func:`~mentor_core.navigation.grid.disc_touches`)."""
+        p = (np.asarray(xy, dtype=np.float64).reshape(2) - self.origin) / self.resolution
+        r = radius / self.resolution
+        r0, c0 = max(0, math.floor(p[1] - r)), max(0, math.floor(p[0] - r))
+        window = np.s_[r0 : math.floor(p[1] + r) + 2, c0 : math.floor(p[0] + r) + 2]
+        hits = self.hits[window]
+        return disc_touches((hits > 0) & (hits >= self.misses[window]), p - (c0, r0), r)
 
     def _cells(self, y: FloatArray, x: FloatArray) -> tuple[IntArray, IntArray]:
         n = self.hits.shape[0]

@@ -16,8 +16,8 @@ stamp (ns, sim time) and the node time it came at (ns, steady clock), and asks i
   ``stale_after`` without answering (missing, stale or unpaired data), or a stream is stale;
   the node then sends a zero Twist and a warning naming why. The node's times are its steady
   clock's, so the watchdog fires when sim time stops;
-* :meth:`DecisionGate.arrived`: the robot stands within the goal radius of its goal (the
-  goal is then done and dropped, as a navigation stack's goal checker does).
+* :meth:`DecisionGate.end_goal`: the goal is done (reached, aborted or canceled, as
+  :class:`~mentor_core.runtime.goal_tracker.GoalTracker` judges) and dropped.
 
 A refused scan (:meth:`DecisionGate.refuse_scan`: invalid ranges the planner cannot read) drops
 the scan held, so that nothing is decided on an older one until a good scan comes.
@@ -156,15 +156,10 @@ class DecisionGate:
         self._new_goal = True
         return True
 
-    def arrived(self, pose: Pose, radius: float) -> bool:
-        """The robot at ``pose`` stands within ``radius`` (m) of its goal; the goal is then
-        dropped (nothing is answered until another comes)."""
-        if self._goal is None:
-            return False
-        if np.hypot(pose[0] - self._goal[0], pose[1] - self._goal[1]) > radius:
-            return False
+    def end_goal(self) -> None:
+        """The goal is done (reached, aborted or canceled: :class:`GoalTracker` judges): it
+        is dropped, and nothing is answered until another comes."""
         self._goal = None
-        return True
 
     def on_event(
         self, kind: str, now_ns: int, goal: tuple[float, float] | None = None

@@ -21,12 +21,17 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.navigation.grid import OccupancyGrid
+from mentor_core.navigation.grid import OccupancyGrid, disc_touches
 from mentor_core.navigation.guide import GuideConfig, PathGuide
 from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.planner import GenomePlanner
+
+
+def _xy(goal: ArrayLike) -> str:
+    x, y = np.asarray(goal, dtype=np.float64).reshape(2)
+    return f"({x:.3f}, {y:.3f})"
 
 
 def wire_grid(grid: OccupancyGrid) -> OccupancyGrid:
@@ -45,6 +50,7 @@ class GuidedPlanner:
     def __init__(self, planner: GenomePlanner, config: GuideConfig) -> None:
         self.planner = planner
         self.guide = PathGuide(config)
+        self._obstacles: tuple[OccupancyGrid, NDArray[np.bool_]] | None = None
 
     def reset(self) -> None:
         """Start the network blank (a new goal or episode; :meth:`GenomePlanner.reset`)."""
@@ -57,6 +63,22 @@ class GuidedPlanner:
     def set_path(self, path: ArrayLike) -> None:
         """Follow ``path`` ``(k, 2)`` until the goal changes (see :meth:`PathGuide.set_path`)."""
         self.guide.set_path(path)
+
+    def goal_fault(self, goal: ArrayLike) -> str:
+        """Why ``goal`` (x, y) cannot be reached on the map planned on (one line: it lies in
+        an obstacle, where the robot's footprint would touch one), or '' (also without a
+        map). A goal no plan reaches is not refused: the robot then steers to it as the plain
+        planner does, and the node's progress checker and time limit judge it."""
+        planner = self.guide.planner
+        if planner is None:
+            return ""
+        grid = planner.grid
+        if self._obstacles is None or self._obstacles[0] is not grid:  # once a map
+            self._obstacles = (grid, grid.obstacles(unknown_is_obstacle=False))
+        cells = grid.to_local(goal)[0] / grid.resolution
+        if disc_touches(self._obstacles[1], cells, self.guide.config.radius / grid.resolution):
+            return f"goal {_xy(goal)} lies in an obstacle of the map"
+        return ""
 
     def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) as :meth:`GenomePlanner.decide`, the network
@@ -99,6 +121,14 @@ class ScanGuidedPlanner:
             self.scan.refresh()
         else:
             self.scan = ScanGuide(*self._blank)
+
+    def goal_fault(self, goal: ArrayLike) -> str:
+        """Why ``goal`` (x, y) cannot be reached on the scan map (one line: it lies in an
+        obstacle the scans have seen, where the robot's footprint would touch it), or '' (as
+        :meth:`GuidedPlanner.goal_fault`)."""
+        if self.scan.map.blocks(goal, self.guide.config.radius):
+            return f"goal {_xy(goal)} lies in an obstacle the scans have seen"
+        return ""
 
     def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
         """Decision ``(dtheta, ds)`` (rad, m) as :meth:`GenomePlanner.decide`, after adding

@@ -29,6 +29,7 @@ from mentor_core.errors import ConfigError, short_repr
 from mentor_core.evolution.genome import Genome
 from mentor_core.evolution.network import FeedForwardNetwork
 from mentor_core.files.genome_file import load_genome_and_metadata
+from mentor_core.runtime.footprint import Box, with_footprint
 from mentor_core.sim import observation
 from mentor_core.sim.planner_settings import with_planner
 from mentor_core.sim.robots import (
@@ -107,14 +108,18 @@ def genome_control_period(genome_path: str | Path, profile_name: str) -> float:
 
 
 def deployed_genome(
-    genome_path: str | Path, profile_name: str, deployment: Deployment | None = None
-) -> tuple[Genome, Deployed]:
+    genome_path: str | Path, profile_name: str, deployment: Deployment | None = None,
+    footprint: Box | None = None,
+) -> tuple[Genome, Deployed]:  # fmt: skip
     """The genome in ``genome_path`` and how it runs on robot ``profile_name`` as
-    ``deployment`` (None: as trained, with the stages its metadata names). FileFormatError
+    ``deployment`` (None: as trained, with the stages its metadata names), its body the box
+    ``footprint`` (:func:`~mentor_core.runtime.footprint.footprint_box`; None: the
+    profile's). FileFormatError
     (corrupt or missing genome), ConfigError (unknown profile, a genome for another robot, a
     bad setting), each one line naming the file or key."""
     genome, metadata = load_genome_and_metadata(genome_path)
     profile = planner_profile(get_profile(profile_name), metadata, genome_path)
+    profile = with_footprint(profile, footprint)
     trained = trained_stages(metadata, genome_path)
     return genome, deploy(profile, trained, deployment or Deployment(), genome_path)
 

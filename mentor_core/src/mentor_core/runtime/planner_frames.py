@@ -92,6 +92,12 @@ class PlannerFrames:
             in_map = None
         return odom, in_map
 
+    def heading(self, frame: str, yaw: float) -> float:
+        """A goal's heading ``yaw`` (rad) given in ``frame`` (empty: the map's), in the
+        odometry frame. LookupError as :meth:`goal`."""
+        source = frame or self.map_frame
+        return self.transform(self.odom_frame, source).apply_pose((0.0, 0.0, yaw))[2]
+
     def mount(self, scan_frame: str) -> LidarMount:
         """Where the scan's frame sits on the body; LookupError (TF) when unknown."""
         if self._lookup is None:

@@ -18,6 +18,9 @@ from collections.abc import Sequence
 from mentor_core.errors import MentorError, short_repr
 from mentor_core.validation import yaml_value
 
+#: s, the shortest period a node's timer may be set to run at (100 Hz): shorter ones would
+#: take a whole core and answer nothing more
+MIN_PERIOD = 0.01
 _SCALARS = (str, int, float, bool)
 _FLAGS = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}
 
@@ -56,6 +59,18 @@ def parameter_fault(argv: Sequence[str]) -> str:
     return ""
 
 
+def period_fault(name: str, seconds: float) -> str:
+    """Why a node parameter ``name`` that sets a timer's period to ``seconds`` (a rate's
+    inverse) is refused (one line: below :data:`MIN_PERIOD`, or not a positive number), or
+    ''."""
+    if not seconds > 0.0 or math.isinf(seconds):
+        return f"{name}: {seconds} s is not a period > 0"
+    if seconds < MIN_PERIOD:
+        return (f"{name}: a period of {seconds:g} s is shorter than the floor of "
+                f"{MIN_PERIOD:g} s ({1.0 / MIN_PERIOD:g} Hz)")
+    return ""
+
+
 def launch_flag(name: str, text: str) -> bool:
     """A launch argument ``name:=text`` as a bool: ``true``/``false``, ``1``/``0`` or
     ``yes``/``no`` in any case; MentorError (one line naming it) for anything else."""
@@ -75,6 +90,18 @@ def launch_number(name: str, text: str) -> float:
     if not math.isfinite(number):
         raise MentorError(f"{name}:={text}: expected a number")
     return number
+
+
+def launch_numbers(name: str, text: str) -> list[float]:
+    """A launch argument ``name:=text`` as a list of finite floats (``[0.0, -0.5]``);
+    MentorError (one line naming it) for anything else."""
+    try:
+        numbers = [float(v) for v in yaml_value(text)]
+    except (TypeError, ValueError):
+        numbers = [math.nan]
+    if not all(math.isfinite(v) for v in numbers):
+        raise MentorError(f"{name}:={text}: expected a list of numbers like [0.0, 0.0]")
+    return numbers
 
 
 def launch_count(name: str, text: str) -> int:

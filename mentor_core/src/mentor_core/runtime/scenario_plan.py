@@ -12,6 +12,13 @@ overlaps an obstacle or a wall cannot be run by that robot: it is skipped with a
 reason) and hands out the rest: in episode ``e`` robot ``j`` of ``n`` runs its
 ``(first + e n + j)``-th runnable scenario, cyclically
 (:func:`mentor_core.runtime.simulator.scenario_for`).
+
+Scenarios the simulator drew itself (the training DoE, pairs on a ROS map) are drawn for one
+profile, at its scale. Each robot of another profile gets missions of its own in the same
+world, as many, drawn for its body and its reach
+(:func:`mentor_core.sim.scenarios.sample_scenarios` with the seed and the robot's place), so
+that a Swarm-Robot beside a UGV is sent 2 m, not 12 m. Scenarios of a world file or a bag are
+the user's: every robot runs them.
 """
 
 from __future__ import annotations
@@ -33,6 +40,8 @@ from mentor_core.sim.world import Scenario, World, load_world
 
 #: start/goal pairs sampled on a ROS map given without scenarios (``map_yaml``)
 MAP_SCENARIOS = 10
+#: a seed stream of its own for the missions of robots of another profile
+MISSION_STREAM = 7
 
 
 @dataclass(frozen=True)
@@ -44,6 +53,19 @@ class ScenarioSource:
     scenarios: tuple[Scenario, ...]
     origin: str
     map_resolution: float | None = None
+    #: the profile the scenarios were drawn for, and the seed (None: given by a file)
+    drawn_for: str | None = None
+    seed: int = 0
+
+    def missions(self, profile: RobotProfile, robot: int) -> tuple[Scenario, ...]:
+        """The scenarios robot number ``robot`` of ``profile`` runs (module docstring)."""
+        if self.drawn_for is None or profile.name == self.drawn_for:
+            return self.scenarios
+        rng = np.random.default_rng([self.seed, robot, MISSION_STREAM])
+        try:
+            return tuple(sample_scenarios(self.world, profile, len(self.scenarios), rng))
+        except ValueError as err:
+            raise FileFormatError(self.origin, f"no missions for {profile.name}: {err}") from None
 
 
 def load_scenario_source(
@@ -67,6 +89,7 @@ def load_scenario_source(
             "give only one of a world file, a scenario bag or a map", key="world"
         )
     resolutions: list[float] = []
+    drawn_for: str | None = None
 
     def read_map(path: Path) -> World:
         map_world, grid = load_map_world(path)
@@ -87,6 +110,7 @@ def load_scenario_source(
             fault = f"no start/goal pairs for {profile.name}: {err}"
             raise FileFormatError(map_yaml, fault) from None
         origin = f"{map_yaml}, pairs of seed {seed}"
+        drawn_for = profile.name
     elif str(scenario_bag):
         world, scenarios, _, _ = read_scenario_bag(scenario_bag)
         origin = str(scenario_bag)
@@ -96,9 +120,11 @@ def load_scenario_source(
         scenarios = training_scenarios(profile, seed)
         world = scenarios[0].world
         origin = f"training scenarios of {profile.name!r}, seed {seed}"
+        drawn_for = profile.name
     if not scenarios:
         raise FileFormatError(origin, "holds no scenarios (start/goal pairs)")
-    return ScenarioSource(world, tuple(scenarios), origin, resolutions[0] if resolutions else None)
+    return ScenarioSource(world, tuple(scenarios), origin, resolutions[0] if resolutions else None,
+                          drawn_for, seed)  # fmt: skip
 
 
 def source_map(source: ScenarioSource, resolution: float) -> OccupancyGrid:
@@ -137,9 +163,11 @@ class ScenarioPlan:
         self.time_limit = time_limit
         skipped: list[str] = []
         runnable: list[tuple[int, ...]] = []
-        for name, profile in self.robots:
+        #: each robot's scenarios (module docstring)
+        self.missions = tuple(source.missions(p, j) for j, (_, p) in enumerate(self.robots))
+        for (name, profile), missions in zip(self.robots, self.missions, strict=True):
             ok = []
-            for i, sc in enumerate(source.scenarios):
+            for i, sc in enumerate(missions):
                 fault = start_fault(source.world, self._setup(name, profile, i, sc))
                 if fault:
                     skipped.append(f"scenario {i} skipped for {name} ({profile.name}): {fault}")
@@ -172,5 +200,5 @@ class ScenarioPlan:
         for j, (name, profile) in enumerate(self.robots):
             ok = self.runnable[j]
             index = ok[scenario_for(episode, j, n, len(ok), self.first)]
-            out.append(self._setup(name, profile, index, self.source.scenarios[index]))
+            out.append(self._setup(name, profile, index, self.missions[j][index]))
         return out

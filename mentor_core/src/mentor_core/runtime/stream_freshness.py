@@ -5,8 +5,8 @@ second. So each stream is judged by its own pace: it is stale when no message ha
 :data:`INTERVALS` times its typical interval (the median of the last :data:`KEPT`), never less
 than ``floor`` (executor jitter) and never more than ``ceiling`` (the planner's
 ``stale_timeout``); until two messages have come, ``ceiling``. A 5 Hz lidar is then stale
-after 0.5 s, 30 Hz odometry after 0.1 s. Times are the node's steady clock (ns), so a stream
-is stale also when sim time stops.
+after 0.5 s, 30 Hz odometry after 0.2 s (the floor). Times are the node's steady clock (ns),
+so a stream is stale also when sim time stops.
 """
 
 from __future__ import annotations
@@ -19,8 +19,9 @@ from collections import deque
 INTERVALS = 2.5
 #: arrival times kept for the typical interval
 KEPT = 9
-#: ns: the least a stream may go quiet before it is stale
-FLOOR_NS = 100_000_000
+#: ns: the least a stream may go quiet before it is stale: a Python node's own callbacks (a
+#: plan on a large map) hold messages up for tens of ms; 0.2 s is 20 cm at 1 m/s
+FLOOR_NS = 200_000_000
 
 
 class StreamFreshness:

@@ -32,7 +32,9 @@ Invalid ranges (NaN, and finite ranges outside ``[range_min, range_max]``, such 
 drivers send for no measurement) are unknown, never free: a sensor that reads nothing (``+inf``)
 while a ray into its field is invalid is *unknown*, and :class:`ScanReadings` says so, as it
 says how many of the scan's rays are valid (:attr:`ScanReadings.valid_share`); the planner
-then refuses the scan rather than drive into what it could not see.
+then refuses the scan rather than drive into what it could not see. It refuses too a scan of
+which many rays read ``-inf`` (:attr:`ScanReadings.near_share`): something at the body all
+round, closer than the sensors' cones begin.
 
 Error against the profile's own readings: what a derived reading can miss is finer than the
 scan's increment ``da``: a flat surface is read exactly (float32 rounding aside), a curved
@@ -109,6 +111,8 @@ class ScanReadings:
     covered: NDArray[np.bool_]
     unknown: NDArray[np.bool_]
     valid_share: float
+    #: the share of the scan's rays that read an object nearer than ``range_min`` (``-inf``)
+    near_share: float
 
     @property
     def unknown_sensors(self) -> tuple[int, ...]:
@@ -123,11 +127,18 @@ class ScanReadings:
 
 #: the least share of a scan's rays that must be valid for a planner to read it
 MIN_VALID_SHARE = 0.5
+#: the largest share of a scan's rays that may read an object nearer than range_min (-inf):
+#: more is something at the body all round, which the sensors' cones, outside it, miss
+MAX_NEAR_SHARE = 0.1
 
 
 def readings_fault(read: ScanReadings) -> str:
     """Why a planner must not decide on ``read`` (one line), or "" (module docstring): some
-    sensor is unknown, or fewer than :data:`MIN_VALID_SHARE` of the rays are valid."""
+    sensor is unknown, fewer than :data:`MIN_VALID_SHARE` of the rays are valid, or more than
+    :data:`MAX_NEAR_SHARE` read an object nearer than ``range_min``."""
+    if read.near_share > MAX_NEAR_SHARE:
+        return (f"{read.near_share:.0%} of the scan's ranges read an object nearer than "
+                f"range_min (-inf; at most {MAX_NEAR_SHARE:.0%}): something is at the body")
     if read.valid_share < MIN_VALID_SHARE:
         return (f"only {read.valid_share:.0%} of the scan's ranges are valid (NaN, or outside "
                 f"[range_min, range_max]; at least {MIN_VALID_SHARE:.0%} needed)")  # fmt: skip
@@ -284,8 +295,9 @@ def readings_from_scan(
     valid = valid_ranges(scan)
     unknown = np.isinf(readings) & (reach & ~valid[None, :]).any(axis=1)
     share = float(valid.mean()) if valid.size else 0.0
+    near = float(np.isneginf(scan.ranges).mean()) if valid.size else 0.0
     return ScanReadings(readings.astype(np.float64), np.asarray(covered, dtype=np.bool_),
-                        np.asarray(unknown, dtype=np.bool_), share)  # fmt: skip
+                        np.asarray(unknown, dtype=np.bool_), share, near)  # fmt: skip
 
 
 def _closed(scan: LaserScanData) -> bool:

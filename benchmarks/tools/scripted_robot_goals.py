@@ -1,0 +1,144 @@
+"""A TurtleBot3 played by a script, driven to goals by the planner node at a preset's defaults.
+
+    python benchmarks/tools/scripted_robot_goals.py --robot turtlebot3_burger \
+        --genome planners/ugv-paper-dual-s1.json --family forest_medium --goals 10 --seed 1
+
+The robot (:class:`mentor_core.StreamedRobot`, ROS side
+:class:`mentor_bringup.scripted_robot.ScriptedRobot`) is not this project's simulator: a
+kinematic differential drive at the preset robot's limits (:data:`SPECS`: the Burger's 0.22 m/s
+or the Waffle's 0.26 m/s), a 360-ray lidar with 1 cm noise at 5 Hz behind its centre, odometry
+and TF at 30 Hz, in one process with the planner node
+(:class:`mentor_planner_node.planner.PlannerNode` with the preset's parameter file and nothing
+else but the genome and sim time), ``--speedup`` times faster than real time. Each goal is a
+start/goal pair 4-5 m apart, solvable for the robot's body, in one world of a benchmark
+family (10 m side) drawn from ``--seed``; the robot is placed at the start and sent the goal
+on ``/goal_pose``, as RViz's tool does, the planner keeping its scan map from goal to goal.
+Prints one line per goal (how it ended, sim s, m driven, m left, collisions) and the total.
+Issue 56; experiment E091; ``docs/ros.md``, "Your own robot". Run it with
+``ros2_ws/interfaces/install/local_setup.bash`` sourced for TF (else frames come from the
+preset's parameters).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+for _pkg in ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "mentor_bringup"):
+    sys.path.insert(0, str(ROOT / _pkg))  # the node packages, from the source tree
+
+# ruff: noqa: E402 (the imports below need the node packages on sys.path)
+import numpy as np
+import rclpy
+from geometry_msgs.msg import PoseStamped
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter
+
+from mentor_bringup.scripted_robot import (
+    GoalRun,
+    ScriptedRobot,
+    drive_goals,
+    spinner,
+    status_listener,
+)
+from mentor_core.navigation.pairs import world_with_pairs
+from mentor_core.runtime.footprint import with_footprint
+from mentor_core.runtime.streamed_robot import StreamedRobot, StreamSpec
+from mentor_core.runtime.velocity_limits import VelocityLimits
+from mentor_core.sim.families import FAMILIES
+from mentor_core.sim.lidar import LidarSpec
+from mentor_core.sim.robots import get_profile
+from mentor_core.sim.transforms import Transform2D
+from mentor_core.sim.world import World
+from mentor_planner_node.planner import PlannerNode
+from mentor_planner_node.presets import SOURCE_CONFIG, preset_values
+
+#: the robot each preset is for: its body, limits and lidar mount (ROBOTIS' specifications)
+SPECS = {
+    "turtlebot3_burger": StreamSpec(),
+    "turtlebot3_waffle": StreamSpec(
+        lidar=LidarSpec(360, mount=Transform2D(-0.064, 0.0, 0.0), range_min=0.12,
+                        range_max=3.5, noise=0.01),
+        limits=VelocityLimits(max_vel_x=0.26, max_vel_theta=1.82, acc_lim_x=2.5,
+                              acc_lim_theta=3.2),
+        radius=0.205),
+}
+
+
+def goal_pairs(family: str, count: int, seed: int,
+               radius: float) -> tuple[World, list[tuple[tuple, tuple]]]:  # fmt: skip
+    """A world of ``family`` (10 m) and ``count`` (start, goal) pairs in it 4-5 m apart,
+    solvable for a body of ``radius`` m, drawn from ``seed``."""
+    body = with_footprint(get_profile("ugv"), (2.0 * radius, 2.0 * radius))
+    world, pairs = world_with_pairs(FAMILIES[family][1], 10.0, family, body, count,
+                                    (4.0, 5.0), 15.0, np.random.default_rng(seed))
+    return world, [(s.start, s.goal) for s, _ in pairs]
+
+
+def run(robot: str, genome: str, world: World, pairs: list[tuple[tuple, tuple]],
+        speedup: float, limit: float, fault: str = "") -> list[GoalRun]:  # fmt: skip
+    """Drive to each pair's goal from its start, in one world, one planner node (its scan
+    map kept from goal to goal, as the preset keeps it); the :class:`GoalRun` of each."""
+    values = {**preset_values(SOURCE_CONFIG / f"{robot}.yaml"), "genome": genome,
+              "use_sim_time": True}
+    context = Context()
+    rclpy.init(context=context)
+    executor = SingleThreadedExecutor(context=context)
+    runs: list[GoalRun] = []
+    try:
+        planner = PlannerNode(context=context, parameter_overrides=[
+            Parameter(k, value=v) for k, v in values.items()])  # fmt: skip
+        sim = StreamedRobot(world, get_profile("ugv"), pairs[0][0], SPECS[robot], seed=1)
+        sim.fault = fault
+        scripted = ScriptedRobot(sim, context=context)
+        probe = rclpy.create_node("goals", context=context)
+        statuses: list[str] = []
+        status_listener(probe, statuses)
+        pub = probe.create_publisher(PoseStamped, "/goal_pose", 10)
+        for node in (planner, scripted, probe):
+            executor.add_node(node)
+
+        spin = spinner(executor)
+
+        for start, goal in pairs:
+            sim.place(start)
+            runs += drive_goals(spin, scripted, pub, statuses, [goal], speedup, limit)
+    finally:
+        executor.shutdown()
+        for node in list(executor.get_nodes()):
+            node.destroy_node()
+        rclpy.try_shutdown(context=context)
+    return runs
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--robot", default="turtlebot3_burger", choices=sorted(SPECS))
+    p.add_argument("--genome", default="planners/ugv-paper-dual-s1.json")
+    p.add_argument("--family", default="forest_medium")
+    p.add_argument("--goals", type=int, default=10)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--speedup", type=float, default=4.0, help="sim s per wall s")
+    p.add_argument("--limit", type=float, default=120.0, help="sim s a goal may take")
+    args = p.parse_args(argv)
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    os.environ.setdefault("ROS_DOMAIN_ID", "43")
+    world, pairs = goal_pairs(args.family, args.goals, args.seed, SPECS[args.robot].radius)
+    runs = run(args.robot, args.genome, world, pairs, args.speedup, args.limit)
+    for k, r in enumerate(runs):
+        print(f"goal {k + 1}: {r.status or 'no end'}; {r.seconds:.1f} s, {r.driven:.2f} m "
+              f"driven, {r.left:.2f} m left, {r.collisions} collisions", flush=True)
+    reached = sum(r.status == "reached" for r in runs)
+    collided = sum(r.collisions > 0 for r in runs)
+    print(f"{args.robot}, {args.family}, seed {args.seed}: {reached} of {len(runs)} goals "
+          f"reached, {collided} with a collision")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,62 @@
+"""The planner node on a robot that is not this project's simulator: a TurtleBot3 Burger played
+by a script (a 360-ray lidar at 5 Hz, 3.2 cm behind its centre, odometry at 30 Hz, the
+Burger's limits), driven at the ``turtlebot3_burger`` preset's parameters and nothing else
+(issue 56, point 6)."""
+
+from __future__ import annotations
+
+import pytest
+from ros_support import Graph
+from scripted_support import Burger, goal_msg
+
+pytestmark = pytest.mark.ros
+
+def test_the_burger_preset_reaches_goals_through_a_door(graph: Graph) -> None:
+    burger = Burger(graph, (3.0, 2.5, 1.0))
+    runs = burger.drive((7.0, 5.5))
+    assert [r.status for r in runs] == ["reached"], runs
+    assert runs[0].collisions == 0 and runs[0].left <= 0.5
+    assert burger.planner.goals_reached == 1
+    # then it publishes nothing: a teleoperator may drive
+    sent = burger.robot.commands
+    burger.run(2.0)
+    assert burger.robot.commands == sent
+
+
+@pytest.mark.parametrize("fault", ["scan_nan", "scan_zero", "scan_inf", "scan_stop",
+                                   "odom_stop"])  # fmt: skip
+def test_bad_data_stops_the_robot_before_the_wall(
+    graph: Graph, capfd: pytest.CaptureFixture[str], fault: str
+) -> None:
+    """Failed before: an all-NaN or all-zero scan read as free space drove the robot into a
+    box it had mapped; stopped odometry or scans re-sent the last command until the stale
+    timeout (0.9-1.6 m blind)."""
+    burger = Burger(graph, (1.0, 4.6, 0.0))
+    burger.goal.publish(goal_msg((9.0, 4.6)))  # through the door: straight on at first
+    deadline = burger.sim.time + 20.0
+    while burger.sim.velocity[0] < 0.15:
+        assert burger.sim.time < deadline, "the robot never drove"
+        burger.goal.publish(goal_msg((9.0, 4.6)))
+        burger.run(0.2)
+    burger.sim.fault = fault
+    x0 = burger.sim.pose[0]
+    burger.run(0.8)
+    assert burger.sim.velocity == (0.0, 0.0)
+    assert burger.sim.pose[0] - x0 < 0.2  # at 0.22 m/s: stopped within a second
+    burger.run(3.0)  # and stays stopped while the fault lasts
+    assert burger.sim.velocity == (0.0, 0.0) and burger.sim.collisions == 0
+    err = capfd.readouterr().err
+    assert "stopping" in err or "watchdog" in err
+
+
+def test_a_goal_in_a_box_the_scans_have_seen_is_refused(graph: Graph) -> None:
+    burger = Burger(graph, (1.0, 6.0, 0.0))
+    runs = burger.drive((4.0, 6.0))  # past the box at x 2-3, y 6.5-7.5: its side sensors
+    assert runs[0].status == "reached"  # read its face (y 6.5) into the scan map
+    burger.statuses.clear()
+    burger.goal.publish(goal_msg((2.5, 6.55)))  # just behind that face
+    burger.run(0.5)
+    refused = [s for s in burger.statuses if s.startswith("goal refused")]
+    assert refused and "lies in an obstacle the scans have seen" in refused[0]
+    assert not any(s.startswith("accepted") for s in burger.statuses)
+    assert burger.sim.collisions == 0
