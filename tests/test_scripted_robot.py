@@ -40,9 +40,9 @@ def test_bad_data_stops_the_robot_before_the_wall(
         burger.run(0.2)
     burger.sim.fault = fault
     x0 = burger.sim.pose[0]
-    burger.run(0.8)
+    burger.run(1.5)  # staleness is judged on the wall clock: room for a loaded machine
     assert burger.sim.velocity == (0.0, 0.0)
-    assert burger.sim.pose[0] - x0 < 0.2  # at 0.22 m/s: stopped within a second
+    assert burger.sim.pose[0] - x0 < 0.33  # at 0.22 m/s: stopped within 1.5 s (was 4-7 s)
     burger.run(3.0)  # and stays stopped while the fault lasts
     assert burger.sim.velocity == (0.0, 0.0) and burger.sim.collisions == 0
     err = capfd.readouterr().err

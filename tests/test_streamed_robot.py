@@ -39,7 +39,7 @@ def test_the_base_clips_commands_to_its_limits_and_a_wall_stops_it() -> None:
     assert robot.velocity[0] == pytest.approx(0.22)  # reached within 0.1 s at 2.5 m/s^2
     _run(robot, 12.0)
     assert robot.collisions >= 1 and robot.velocity == (0.0, 0.0)
-    assert robot.pose[0] < 6.0 - robot.spec.radius + 1e-9  # stopped at the wall
+    assert robot.pose[0] < 6.0 - robot.spec.body[0] / 2 + 1e-9  # stopped at the wall
 
 
 @pytest.mark.parametrize("fault", FAULTS[1:])

@@ -43,11 +43,12 @@ from mentor_bringup.scripted_robot import (
     GoalRun,
     ScriptedRobot,
     drive_goals,
+    run_for,
     spinner,
     status_listener,
 )
 from mentor_core.navigation.pairs import world_with_pairs
-from mentor_core.runtime.footprint import with_footprint
+from mentor_core.runtime.footprint import footprint_box, with_footprint
 from mentor_core.runtime.streamed_robot import StreamedRobot, StreamSpec
 from mentor_core.runtime.velocity_limits import VelocityLimits
 from mentor_core.sim.families import FAMILIES
@@ -66,16 +67,18 @@ SPECS = {
                         range_max=3.5, noise=0.01),
         limits=VelocityLimits(max_vel_x=0.26, max_vel_theta=1.82, acc_lim_x=2.5,
                               acc_lim_theta=3.2),
-        radius=0.205),
+        # the box about base_footprint holding Nav2's Waffle footprint, as the preset keeps
+        body=footprint_box(preset_values(SOURCE_CONFIG / "turtlebot3_waffle.yaml")
+                           ["footprint"]) or (0.41, 0.31)),
 }
 
 
 def goal_pairs(family: str, count: int, seed: int,
-               radius: float) -> tuple[World, list[tuple[tuple, tuple]]]:  # fmt: skip
+               body: tuple[float, float]) -> tuple[World, list[tuple[tuple, tuple]]]:  # fmt: skip
     """A world of ``family`` (10 m) and ``count`` (start, goal) pairs in it 4-5 m apart,
-    solvable for a body of ``radius`` m, drawn from ``seed``."""
-    body = with_footprint(get_profile("ugv"), (2.0 * radius, 2.0 * radius))
-    world, pairs = world_with_pairs(FAMILIES[family][1], 10.0, family, body, count,
+    solvable for a ``body`` (length, width) box, drawn from ``seed``."""
+    robot = with_footprint(get_profile("ugv"), body)
+    world, pairs = world_with_pairs(FAMILIES[family][1], 10.0, family, robot, count,
                                     (4.0, 5.0), 15.0, np.random.default_rng(seed))
     return world, [(s.start, s.goal) for s, _ in pairs]
 
@@ -107,6 +110,8 @@ def run(robot: str, genome: str, world: World, pairs: list[tuple[tuple, tuple]],
 
         for start, goal in pairs:
             sim.place(start)
+            # a second still at the start: the planner's latest scan and odometry are from there
+            run_for(spin, scripted, 1.0, speedup)
             runs += drive_goals(spin, scripted, pub, statuses, [goal], speedup, limit)
     finally:
         executor.shutdown()
@@ -128,7 +133,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = p.parse_args(argv)
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     os.environ.setdefault("ROS_DOMAIN_ID", "43")
-    world, pairs = goal_pairs(args.family, args.goals, args.seed, SPECS[args.robot].radius)
+    world, pairs = goal_pairs(args.family, args.goals, args.seed, SPECS[args.robot].body)
     runs = run(args.robot, args.genome, world, pairs, args.speedup, args.limit)
     for k, r in enumerate(runs):
         print(f"goal {k + 1}: {r.status or 'no end'}; {r.seconds:.1f} s, {r.driven:.2f} m "

@@ -276,6 +276,8 @@ class PlannerNode(Node):
         self.get_logger().warning(text, throttle_duration_sec=WARN_EVERY_S)
 
     def _on_scan(self, msg: LaserScan) -> None:
+        if self.frames.uses_tf and not self.frames.has_odometry:
+            return  # no pose to pair it with, and the body frame its mount hangs from unknown
         kind = self.params.scan_kind
         if kind == "auto":
             kind = "sensors" if conversions.is_profile_scan(msg, self.profile) else "lidar"

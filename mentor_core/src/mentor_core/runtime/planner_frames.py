@@ -53,6 +53,7 @@ class PlannerFrames:
         self.odom_frame = ODOM_FRAME
         self.base_frame = BASE_LINK
         self._pose = IDENTITY
+        self.has_odometry = False  # the body frame is known (the odometry's child)
 
     @property
     def uses_tf(self) -> bool:
@@ -64,6 +65,7 @@ class PlannerFrames:
         self.odom_frame = frame or self.odom_frame
         self.base_frame = child or self.base_frame
         self._pose = Transform2D(float(pose[0]), float(pose[1]), float(pose[2]))
+        self.has_odometry = True
 
     def transform(self, target: str, source: str) -> Transform2D:
         """The pose of frame ``source`` in frame ``target``; LookupError when unknown."""

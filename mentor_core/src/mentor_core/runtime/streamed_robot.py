@@ -42,7 +42,8 @@ class StreamSpec:
         odom_hz: odometry messages per s of sim time.
         tick: s of sim time a step drives (the physics step).
         limits: what the base can do: commands beyond are clipped (its acceleration too).
-        radius: m, the round body's radius (its box is the square holding it).
+        body: m, ``(length, width)`` of the box about the base frame that holds the robot
+            (the Burger's round 0.105 m; :func:`mentor_core.footprint_box` of a footprint).
     """
 
     lidar: LidarSpec = field(default_factory=lambda: LidarSpec(
@@ -53,11 +54,12 @@ class StreamSpec:
     tick: float = 1.0 / 30.0
     limits: VelocityLimits = field(default_factory=lambda: VelocityLimits(
         max_vel_x=0.22, max_vel_theta=2.84, acc_lim_x=2.5, acc_lim_theta=3.2))  # fmt: skip
-    radius: float = 0.105
+    body: tuple[float, float] = (0.21, 0.21)
 
     def __post_init__(self) -> None:
-        for name in ("scan_hz", "odom_hz", "tick", "radius"):
-            value = getattr(self, name)
+        for name, value in (("scan_hz", self.scan_hz), ("odom_hz", self.odom_hz),
+                            ("tick", self.tick), ("body length", self.body[0]),
+                            ("body width", self.body[1])):  # fmt: skip
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name} must be a positive number, got {value}")
 
@@ -74,14 +76,13 @@ class Tick:
 
 
 class StreamedRobot:
-    """A robot of ``spec`` in ``world``, its body the square holding its round footprint, at
-    ``pose`` (module docstring). ``seed`` draws the lidar's noise."""
+    """A robot of ``spec`` in ``world``, its body ``spec.body``, at ``pose`` (module
+    docstring). ``seed`` draws the lidar's noise."""
 
     def __init__(self, world: World, profile: RobotProfile, pose: tuple[float, float, float],
                  spec: StreamSpec | None = None, seed: int = 0) -> None:  # fmt: skip
         self.spec = spec or StreamSpec()
-        side = 2.0 * self.spec.radius
-        self.profile = replace(profile, length=side, width=side)
+        self.profile = replace(profile, length=self.spec.body[0], width=self.spec.body[1])
         self.physics = PymunkWorld(world, self.profile)
         self.physics.add_robot(_NAME, pose)
         self.time = 0.0
