@@ -22,4 +22,7 @@ PYTHONPATH="$ROOT/mentor_sim_node:$ROOT/mentor_planner_node:$ROOT/mentor_ros_com
 echo "== mypy --strict mentor_core" >&2
 .venv/bin/mypy --strict mentor_core/src/mentor_core
 echo "== pytest" >&2
-exec .venv/bin/python -m pytest "$@"
+# two workers unless told otherwise (-n 0: one process): the suite's ROS tests each take a
+# domain of their worker's (tests/conftest.py), so they run side by side
+case " $* " in *" -n "*|*" -n"[0-9a]*|*" --numprocesses"*) exec .venv/bin/python -m pytest "$@" ;; esac
+exec .venv/bin/python -m pytest -n 2 "$@"
