@@ -19,6 +19,12 @@ is not finite stops the robot at once, with a line saying why. The decision is
 :class:`mentor_core.GenomePlanner`, the trainer's own input and output functions; when to
 decide, when the goal is reached and when data is stale is :class:`mentor_core.DecisionGate`;
 a planner with a memory is reset at the first observation of each new goal or episode.
+A goal ends reached (within ``goal_radius``, facing its heading where ``yaw_goal_tolerance`` is
+set), aborted (Nav2's progress checker, a time limit, an obstacle the map comes to show at it),
+canceled or preempted (:class:`mentor_core.GoalTracker`); each step goes out on ``goal_status``,
+and Nav2's ``NavigateToPose`` is served on ``navigate_to_pose`` where ``nav2_msgs`` is
+(:mod:`.navigate_action`). Frames come from TF through ``tf2_ros`` or, without it, a buffer of
+the node's own on ``/tf`` and ``/tf_static`` (:class:`mentor_core.TfBuffer`).
 A watchdog on the steady clock sends a zero Twist with a throttled warning when no observation
 could be answered for ``stale_timeout`` wall s, also when sim time stops. A corrupt genome or
 an unknown profile is one line on stderr and exit status 2.
