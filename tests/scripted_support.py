@@ -8,19 +8,12 @@ from typing import Any
 
 import numpy as np
 from geometry_msgs.msg import PoseStamped
-from ros_support import Graph, params
+from ros_support import Graph
 
-from mentor_bringup.scripted_robot import (
-    ScriptedRobot,
-    drive_goals,
-    run_for,
-    spinner,
-    status_listener,
-)
+from mentor_bringup.scripted_robot import GoalRig, drive_goals, run_for, spinner
 from mentor_core.runtime.streamed_robot import StreamedRobot
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.world import World
-from mentor_planner_node.planner import PlannerNode
 from mentor_planner_node.presets import SOURCE_CONFIG, preset_values
 
 GENOME = "planners/ugv-paper-dual-s1.json"
@@ -38,14 +31,10 @@ class Burger:
     def __init__(self, graph: Graph, start: tuple[float, float, float], **extra: Any) -> None:
         values = {**preset_values(SOURCE_CONFIG / "turtlebot3_burger.yaml"), "genome": GENOME,
                   "use_sim_time": True, **extra}  # fmt: skip
-        self.planner = graph.add(PlannerNode(context=graph.context,
-                                             parameter_overrides=params(**values)))
         self.sim = StreamedRobot(WORLD, get_profile("ugv"), start, seed=3)
-        self.robot = graph.add(ScriptedRobot(self.sim, context=graph.context))
-        probe = graph.probe("goals")
-        self.statuses: list[str] = []
-        status_listener(probe, self.statuses)
-        self.goal = probe.create_publisher(PoseStamped, "/goal_pose", 10)
+        rig = GoalRig(graph.context, values, self.sim, graph.add)
+        self.planner, self.robot, self.statuses, self.goal = (rig.planner, rig.robot,
+                                                              rig.statuses, rig.goal_pub)
         self.graph = graph
         self.spin = spinner(graph.executor)
 

@@ -34,19 +34,11 @@ for _pkg in ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "men
 # ruff: noqa: E402 (the imports below need the node packages on sys.path)
 import numpy as np
 import rclpy
-from geometry_msgs.msg import PoseStamped
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.parameter import Parameter
+from rclpy.node import Node
 
-from mentor_bringup.scripted_robot import (
-    GoalRun,
-    ScriptedRobot,
-    drive_goals,
-    run_for,
-    spinner,
-    status_listener,
-)
+from mentor_bringup.scripted_robot import GoalRig, GoalRun, drive_goals, run_for, spinner
 from mentor_core.navigation.pairs import world_with_pairs
 from mentor_core.runtime.footprint import footprint_box, with_footprint
 from mentor_core.runtime.streamed_robot import StreamedRobot, StreamSpec
@@ -56,7 +48,6 @@ from mentor_core.sim.lidar import LidarSpec
 from mentor_core.sim.robots import get_profile
 from mentor_core.sim.transforms import Transform2D
 from mentor_core.sim.world import World
-from mentor_planner_node.planner import PlannerNode
 from mentor_planner_node.presets import SOURCE_CONFIG, preset_values
 
 #: the robot each preset is for: its body, limits and lidar mount (ROBOTIS' specifications)
@@ -84,7 +75,7 @@ def goal_pairs(family: str, count: int, seed: int,
 
 
 def run(robot: str, genome: str, world: World, pairs: list[tuple[tuple, tuple]],
-        speedup: float, limit: float, fault: str = "") -> list[GoalRun]:  # fmt: skip
+        speedup: float, limit: float) -> list[GoalRun]:  # fmt: skip
     """Drive to each pair's goal from its start, in one world, one planner node (its scan
     map kept from goal to goal, as the preset keeps it); the :class:`GoalRun` of each."""
     values = {**preset_values(SOURCE_CONFIG / f"{robot}.yaml"), "genome": genome,
@@ -93,26 +84,21 @@ def run(robot: str, genome: str, world: World, pairs: list[tuple[tuple, tuple]],
     rclpy.init(context=context)
     executor = SingleThreadedExecutor(context=context)
     runs: list[GoalRun] = []
+
+    def add(node: Node) -> Node:
+        executor.add_node(node)
+        return node
+
     try:
-        planner = PlannerNode(context=context, parameter_overrides=[
-            Parameter(k, value=v) for k, v in values.items()])  # fmt: skip
         sim = StreamedRobot(world, get_profile("ugv"), pairs[0][0], SPECS[robot], seed=1)
-        sim.fault = fault
-        scripted = ScriptedRobot(sim, context=context)
-        probe = rclpy.create_node("goals", context=context)
-        statuses: list[str] = []
-        status_listener(probe, statuses)
-        pub = probe.create_publisher(PoseStamped, "/goal_pose", 10)
-        for node in (planner, scripted, probe):
-            executor.add_node(node)
-
+        rig = GoalRig(context, values, sim, add)
         spin = spinner(executor)
-
         for start, goal in pairs:
             sim.place(start)
             # a second still at the start: the planner's latest scan and odometry are from there
-            run_for(spin, scripted, 1.0, speedup)
-            runs += drive_goals(spin, scripted, pub, statuses, [goal], speedup, limit)
+            run_for(spin, rig.robot, 1.0, speedup)
+            runs += drive_goals(spin, rig.robot, rig.goal_pub, rig.statuses, [goal], speedup,
+                                limit)  # fmt: skip
     finally:
         executor.shutdown()
         for node in list(executor.get_nodes()):

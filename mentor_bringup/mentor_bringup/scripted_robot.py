@@ -12,20 +12,22 @@ TurtleBot3 preset (``tests/test_scripted_robot.py``,
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import rclpy
 from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
 
 from mentor_core import FrameLink, StreamedRobot, Transform2D
-from mentor_planner_node.planner import QOS_LATCHED, QOS_TF
+from mentor_planner_node.planner import QOS_LATCHED, QOS_TF, PlannerNode
 from mentor_sim_node.conversions import lidar_scan, odometry_from_pose, time_from_ns, transforms
 
 try:  # a full install, or generated in the workspace (interfaces/README.md)
@@ -77,6 +79,24 @@ class ScriptedRobot(Node):
         if out.scan is not None:
             self._scan.publish(lidar_scan(out.scan, self.robot.spec.lidar, stamp, "base_scan"))
         return out.collided
+
+
+class GoalRig:
+    """A user sending goals to a robot: the planner node with ``values`` (a preset's
+    parameters, the genome), ``sim`` played by a :class:`ScriptedRobot`, and a node that sends
+    goals on ``/goal_pose`` (:attr:`goal_pub`) and hears ``goal_status`` (:attr:`statuses`),
+    all in ``context``; ``add`` puts each node on the caller's executor."""
+
+    def __init__(self, context: Any, values: Mapping[str, Any], sim: StreamedRobot,
+                 add: Callable[[Node], Any]) -> None:  # fmt: skip
+        overrides = [Parameter(name, value=value) for name, value in values.items()]
+        self.planner: PlannerNode = add(PlannerNode(context=context,
+                                                    parameter_overrides=overrides))
+        self.robot: ScriptedRobot = add(ScriptedRobot(sim, context=context))
+        sender = add(rclpy.create_node("goals", context=context))
+        self.statuses: list[str] = []
+        status_listener(sender, self.statuses)
+        self.goal_pub = sender.create_publisher(PoseStamped, "/goal_pose", 10)
 
 
 def odometry_msg(pose: Sequence[float], velocity: Sequence[float], stamp: Any) -> Odometry:

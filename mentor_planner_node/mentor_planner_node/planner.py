@@ -74,6 +74,7 @@ from mentor_core import (
     limited_velocity,
     readings_fault,
     readings_from_scan,
+    same_goal,
 )
 from mentor_planner_node import conversions, global_plan, navigate_action
 from mentor_planner_node.params import (
@@ -98,8 +99,6 @@ __all__ = ["NODE_NAME", "QOS_COMMAND", "QOS_GOAL", "QOS_LATCHED", "PlannerNode",
 
 NODE_NAME = "mentor_planner"
 _NS_PER_S = 1e9
-#: m: a goal this near the simulator's episode goal is that goal (it comes through frames)
-SAME_GOAL_M = 1e-6
 COMMAND_DEPTH = 10
 EVENT_DEPTH = 10
 LATCHED_DEPTH = 1
@@ -164,8 +163,6 @@ class PlannerNode(Node):
         self.tracker: GoalTracker | None = None
         self._goal_yaw: float | None = None  # the held goal's heading (odometry frame)
         self._episode_goal: tuple[float, float] | None = None  # the simulator's episode goal
-        #: m from the robot to the goal at the last decision (feedback)
-        self.distance_remaining = math.nan
         #: called with (outcome, text) when a goal ends (the NavigateToPose server)
         self.on_goal_end: Callable[[str, str], None] | None = None
         #: called with (pose, distance) after each decision (the server's feedback)
@@ -349,18 +346,14 @@ class PlannerNode(Node):
         new goal even where it is the goal held (an action's new goal)."""
         # the simulator sends its episode's goal on the goal topic too
         episode = episode or (frame in ("", self.frames.map_frame) and
-                              self._episode_in_map is not None and
-                              math.dist(self._episode_in_map, xy) < SAME_GOAL_M)
+                              same_goal(self._episode_in_map, xy))
         try:
             goal, why = self._goal_in_odom(frame, xy)
             heading = None if yaw is None or goal is None else self.frames.heading(frame, yaw)
             if goal is not None and self.global_plan is not None:
                 why = self.global_plan.goal_fault(goal)
         except LookupError as err:
-            if self._pending is None:
-                self.get_logger().info(f"goal waits for its frame on TF: {err}")
-            since = self._steady_ns() if self._pending is None else self._pending[-1]
-            self._pending = (frame, tuple(xy), yaw, episode, str(err), since)
+            self._wait_for_tf(frame, xy, yaw, episode, err)
             return ""
         self._pending = None
         if why and not why.startswith("goal refused"):
@@ -385,6 +378,14 @@ class PlannerNode(Node):
             self._status(f"accepted ({goal[0]:.3f}, {goal[1]:.3f})")
             self._answer()
         return ""
+
+    def _wait_for_tf(self, frame: str, xy: Any, yaw: float | None, episode: bool,
+                     err: LookupError) -> None:  # fmt: skip
+        """Hold a goal whose frame TF does not link yet (:meth:`_retry_goal` takes it)."""
+        if self._pending is None:
+            self.get_logger().info(f"goal waits for its frame on TF: {err}")
+        since = self._steady_ns() if self._pending is None else self._pending[-1]
+        self._pending = (frame, tuple(xy), yaw, episode, str(err), since)
 
     @property
     def goal_waits(self) -> bool:
@@ -435,8 +436,8 @@ class PlannerNode(Node):
             try:
                 goal, why = self._goal_in_odom(self.frames.map_frame, in_map)
             except LookupError as err:  # map -> odom not on TF yet: the goal waits for it
-                why, self._pending = "", (self.frames.map_frame, in_map, None, True, str(err),
-                                          self._steady_ns())  # fmt: skip
+                why = ""
+                self._wait_for_tf(self.frames.map_frame, in_map, None, True, err)
             if why:
                 self.get_logger().warning(why)
         if kind == "started":  # the simulator's episode: it judges the goal's end itself
@@ -501,7 +502,6 @@ class PlannerNode(Node):
             return
         self._send(twist)
         self.decisions += 1
-        self.distance_remaining = step.distance
         if self.on_decision is not None:
             self.on_decision(obs.pose, step.distance)
 

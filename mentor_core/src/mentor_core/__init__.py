@@ -194,6 +194,9 @@ if TYPE_CHECKING:
     from mentor_core.runtime.goal_intake import (
         bounds_in as bounds_in,
     )
+    from mentor_core.runtime.goal_intake import (
+        same_goal as same_goal,
+    )
     from mentor_core.runtime.goal_tracker import GoalRules as GoalRules
     from mentor_core.runtime.goal_tracker import GoalStep as GoalStep
     from mentor_core.runtime.goal_tracker import GoalTracker as GoalTracker

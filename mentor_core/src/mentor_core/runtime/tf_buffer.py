@@ -19,28 +19,22 @@ class TfBuffer:
 
     def __init__(self) -> None:
         self._tree = FrameTree()
-        self._inverted: dict[str, tuple[str, bool]] = {}
+        self._inverted: dict[str, bool] = {}  # child -> upside down in its parent
 
     def set(self, parent: str, child: str, transform: Transform2D, inverted: bool = False) -> None:
         """``child``'s pose in ``parent`` (the latest: it replaces the one before).
         ValueError as :meth:`FrameTree.link` (an empty name, a loop)."""
         self._tree.link(parent, child, transform)
-        self._inverted[child] = (parent, bool(inverted))
+        self._inverted[child] = bool(inverted)
 
     def lookup(self, target: str, source: str) -> tuple[Transform2D, bool]:
         """The pose of ``source`` in ``target`` and whether ``source`` is upside down in it.
         LookupError when the two frames are not linked."""
         found = self._tree.lookup(target, source)
-        up_source, up_target = self._chain(source), self._chain(target)
+        up_source, up_target = self._tree.chain(source), self._tree.chain(target)
         common = next(f for f in up_source if f in up_target)  # lookup found one
         below = up_source[: up_source.index(common)] + up_target[: up_target.index(common)]
-        return found, sum(self._inverted[f][1] for f in below) % 2 == 1
-
-    def _chain(self, frame: str) -> list[str]:
-        chain = [frame]
-        while chain[-1] in self._inverted:
-            chain.append(self._inverted[chain[-1]][0])
-        return chain
+        return found, sum(self._inverted[f] for f in below) % 2 == 1
 
 
 __all__ = ["TfBuffer"]

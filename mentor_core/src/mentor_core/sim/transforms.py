@@ -139,7 +139,7 @@ class FrameTree:
         """
         if not parent or not child or parent == child:
             raise ValueError(f"cannot link frame {child!r} to parent {parent!r}")
-        if child in self._chain(parent):
+        if child in self.chain(parent):
             raise ValueError(f"linking {child!r} under {parent!r} would make a loop")
         self._parent[child] = (parent, transform)
 
@@ -152,8 +152,8 @@ class FrameTree:
         ``source`` into ``target``). LookupError when the two frames are not linked."""
         if target == source:
             return IDENTITY
-        up_source = self._chain(source)
-        up_target = self._chain(target)
+        up_source = self.chain(source)
+        up_target = self.chain(target)
         common = next((f for f in up_source if f in up_target), None)
         if common is None:
             raise LookupError(f"no transform from frame {source!r} to frame {target!r}")
@@ -161,7 +161,7 @@ class FrameTree:
             self._from_root(up_source, common)
         )
 
-    def _chain(self, frame: str) -> list[str]:
+    def chain(self, frame: str) -> list[str]:
         """``frame`` and its ancestors, nearest first."""
         chain = [frame]
         while chain[-1] in self._parent:
