@@ -21,7 +21,14 @@ import pytest
 import yaml
 from run_support import sigint_as_in_a_terminal
 
-from mentor_core.training.child_processes import Reaper, descendants, process_table
+from mentor_core.training.child_processes import (
+    Reaper,
+    descendants,
+    die_with_parent,
+    process_table,
+    spawn_pool,
+    stop_pool,
+)
 
 pytestmark = pytest.mark.skipif(
     not Path("/proc/self/stat").exists(), reason="reads /proc (Linux)"
@@ -233,3 +240,16 @@ def test_off_linux_the_reaper_is_a_no_op(monkeypatch: pytest.MonkeyPatch) -> Non
     reaper.start()
     assert reaper._proc is None
     reaper.stop()
+
+
+def test_a_ctrl_c_while_a_worker_starts_does_not_end_it() -> None:
+    # the failure a Ctrl-C met once in CI: a worker still in spawn_main printed a traceback
+    pool = spawn_pool(1, die_with_parent, (os.getpid(),))
+    try:
+        future = pool.submit(os.getpid)
+        (worker,) = (pool._processes or {}).values()
+        assert worker.pid is not None
+        os.kill(worker.pid, signal.SIGINT)  # it is still importing: before the initializer
+        assert future.result(timeout=60) == worker.pid
+    finally:
+        stop_pool(pool)

@@ -6,8 +6,10 @@ copy of the problem, some 180 MB). Two mechanisms, one per kind of helper:
 - :func:`die_with_parent`, a process pool's initializer: on Linux the kernel sends the worker
   SIGKILL when its parent dies (``prctl(PR_SET_PDEATHSIG)``); elsewhere a watchdog thread
   polls the parent's pid. Workers also ignore SIGINT: on Ctrl-C the parent stops them, rather
-  than each printing a traceback. (The pool's resource tracker then exits on its own: it lives
-  as long as a process holds its pipe.)
+  than each printing a traceback. They start with SIGINT blocked (:class:`QuietSpawnProcess`),
+  so a Ctrl-C while one is still importing waits for the initializer instead of ending it
+  with a traceback. (The pool's resource tracker then exits on its own: it lives as long as a
+  process holds its pipe.)
 - :class:`Reaper`, a small process that outlives its parent. Ray's local runtime ties its
   raylet and GCS to the driver the same way (PR_SET_PDEATHSIG), but the raylet's agents
   (``ray::DashboardAgent``, ``ray::RuntimeEnvAgent``) outlive a killed raylet for a minute or
@@ -25,7 +27,6 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
-import multiprocessing
 import os
 import select
 import signal
@@ -36,6 +37,7 @@ import time
 from collections.abc import Callable, Collection
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import resource_tracker
+from multiprocessing.context import SpawnContext, SpawnProcess
 from pathlib import Path
 from typing import Any
 
@@ -61,6 +63,29 @@ def die_with_parent(parent_pid: int) -> None:
     threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
 
 
+class QuietSpawnProcess(SpawnProcess):
+    """A spawned process that starts with SIGINT blocked.
+
+    A blocked signal stays blocked through fork and exec, so a Ctrl-C that reaches the worker
+    while it imports (before :func:`die_with_parent` ignores SIGINT) stays pending and is then
+    discarded, instead of a KeyboardInterrupt traceback from ``spawn_main``. The parent's
+    thread only holds it back while it starts the process: a Ctrl-C then arrives right
+    after (or at once, through another thread)."""
+
+    def start(self) -> None:
+        before = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            super().start()
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
+class QuietSpawnContext(SpawnContext):
+    """multiprocessing's spawn context, with :class:`QuietSpawnProcess` processes."""
+
+    Process = QuietSpawnProcess
+
+
 def spawn_pool(
     workers: int, initializer: Callable[..., object], initargs: tuple[Any, ...]
 ) -> ProcessPoolExecutor:
@@ -73,7 +98,7 @@ def spawn_pool(
     _start_quiet_resource_tracker()
     return ProcessPoolExecutor(
         max_workers=workers,
-        mp_context=multiprocessing.get_context("spawn"),
+        mp_context=QuietSpawnContext(),
         initializer=initializer,
         initargs=initargs,
     )
