@@ -7,8 +7,10 @@ import math
 
 import numpy as np
 import pytest
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
 
-from mentor_core.navigation import grid_planner
+from mentor_core.navigation import grid_search
 from mentor_core.navigation.follow import cumulative_length, point_at
 from mentor_core.navigation.grid import UNKNOWN, OccupancyGrid, world_grid
 from mentor_core.navigation.grid_planner import GridPlanner, plan_path
@@ -110,11 +112,10 @@ def test_crossed_cells_are_exactly_the_cells_a_segment_enters() -> None:
     assert cols.tolist() == [0, 0, 0, 0] and rows.tolist() == [0, 1, 2, 3]
 
 
-def test_the_compiled_line_of_sight_is_the_crossed_cells_test(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    # visible() runs a compiled kernel (a scan map's hot spot); it must answer as the
-    # crossed cells do, on grids turned and moved, segments on grid lines included
+def test_the_compiled_line_of_sight_is_the_crossed_cells_test() -> None:
+    # visible() and line_cost() run a compiled kernel reading clearances as it goes; they
+    # must answer as the crossed cells on scipy's whole-map distance transform do, on grids
+    # turned and moved, segments on grid lines included
     rng = np.random.default_rng(7)
     boxes = rng.uniform(0.0, 11.0, (30, 2))
     world = World(12.0, np.c_[boxes, np.minimum(boxes + rng.uniform(0.1, 1.0, (30, 2)), 12.0)])
@@ -122,28 +123,36 @@ def test_the_compiled_line_of_sight_is_the_crossed_cells_test(
     segments[:200] = np.round(segments[:200] / 0.1) * 0.1  # ends on cell corners
     segments[200:300, 3] = segments[200:300, 1]  # along a row
     for origin in ((0.0, 0.0, 0.0), (1.3, -2.1, 0.6)):
-        grid = world_grid(world, 0.1)
-        planner = GridPlanner(OccupancyGrid(0.1, origin, grid.data), 0.2)
-        costly = GridPlanner(OccupancyGrid(0.1, origin, grid.data), 0.1, preferred=0.3,
-                             clearance_cost=2.0)  # fmt: skip
-        seen: dict[bool, list[bool]] = {}
-        costs: dict[bool, list[float]] = {}
-        for fallback in (False, True):
-            if fallback:
-                monkeypatch.setattr(grid_planner, "_along_numba", None)
-            seen[fallback] = [planner.visible(s[:2], s[2:], radius)
-                              for s in segments for radius in (None, 0.1)]  # fmt: skip
-            costs[fallback] = [costly.line_cost(s[:2], s[2:]) for s in segments]
-        assert seen[False] == seen[True]
-        assert 0 < sum(seen[True]) < len(seen[True])  # both answers occur
-        np.testing.assert_allclose(costs[False], costs[True], rtol=1e-12)
-        finite = np.isfinite(costs[True])
+        grid = OccupancyGrid(0.1, origin, world_grid(world, 0.1).data)
+        planner = GridPlanner(grid, 0.2)
+        costly = GridPlanner(grid, 0.1, preferred=0.3, clearance_cost=2.0)
+        padded = np.pad(grid.obstacles(), 1, constant_values=True)
+        edt = ndimage.distance_transform_edt(~padded)[1:-1, 1:-1]
+        seen, want = [], []
+        for s in segments:
+            rows, cols = planner.crossed_cells(s[:2], s[2:])
+            inside = grid.inside(rows, cols).all()
+            for radius in (None, 0.1):
+                seen.append(planner.visible(s[:2], s[2:], radius))
+                need = (0.2 if radius is None else radius) + np.sqrt(2.0) * 0.1
+                want.append(bool(inside and (edt[rows, cols] * 0.1 >= need).all()))
+        assert seen == want
+        assert 0 < sum(seen) < len(seen)  # both answers occur
+        # the costs: as the same kernel run as Python on scipy's clearances
+        memo = np.where(edt <= costly._cap, np.rint(edt**2), grid_search.FAR).astype(np.int32)
+        python = grid_search._along.py_func
+        costs = [costly.line_cost(s[:2], s[2:]) for s in segments]
+        need = 0.1 + np.sqrt(2.0) * 0.1
+        field = (*costly._field[:2], memo, *costly._field[3:])
+        reference = [python(*s, *costly._frame, field, need, 0.3, 0.2, 2.0, True)
+                     for s in segments]  # fmt: skip
+        np.testing.assert_allclose(costs, reference, rtol=1e-12)
+        finite = np.isfinite(costs)
         assert 0 < finite.sum() < len(segments)
         # a segment's cost is at least its length, at most 1 + w times it
         length = np.hypot(*(segments[finite, 2:] - segments[finite, :2]).T)
-        assert (np.asarray(costs[True])[finite] >= length * (1 - 1e-12)).all()
-        assert (np.asarray(costs[True])[finite] <= 3.0 * length * (1 + 1e-12)).all()
-        monkeypatch.undo()
+        assert (np.asarray(costs)[finite] >= length * (1 - 1e-12)).all()
+        assert (np.asarray(costs)[finite] <= 3.0 * length * (1 + 1e-12)).all()
 
 
 def test_planning_on_a_rotated_map() -> None:
@@ -199,3 +208,64 @@ def test_clearance_cost_settings_are_checked() -> None:
         GridPlanner(grid, 0.3, preferred=0.2)
     with pytest.raises(ValueError, match="clearance_cost"):
         GridPlanner(grid, 0.3, preferred=0.5, clearance_cost=-1.0)
+
+
+def _dijkstra_reference(
+    clearance: np.ndarray, r: float, need: float, preferred: float, cost: float
+) -> tuple[sparse.csr_matrix, np.ndarray]:
+    """The planner's graph built whole, as it was before A*: traversable cells, 8-connected,
+    no corner cutting, edges ``l (1 + w (q_a + q_b) / 2)``; and each cell's node (-1: none)."""
+    t = clearance >= need
+    node = np.full(t.shape, -1)
+    node[t] = np.arange(int(t.sum()))
+    span = preferred - (need - np.sqrt(2.0) * r)
+    q = np.clip((preferred - (clearance - np.sqrt(2.0) * r)) / span, 0.0, 1.0) if cost else 0 * t
+    rows, cols, weights = [], [], []
+    h, w = t.shape
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        for i in range(h):
+            for j in range(w):
+                k, m = i + dr, j + dc
+                if not (0 <= k < h and 0 <= m < w and t[i, j] and t[k, m]):
+                    continue
+                if dr and dc and not (t[i, m] and t[k, j]):
+                    continue
+                length = r * (np.sqrt(2.0) if dr and dc else 1.0)
+                rows.append(node[i, j])
+                cols.append(node[k, m])
+                weights.append(length * (1.0 + cost * (q[i, j] + q[k, m]) / 2.0))
+    n = int(t.sum())
+    return sparse.coo_matrix((weights, (rows, cols)), shape=(n, n)).tocsr(), node
+
+
+@pytest.mark.parametrize("cost", [0.0, 2.0])
+def test_a_star_costs_what_dijkstra_on_the_whole_graph_costs(cost: float) -> None:
+    # the independent reference: scipy's Dijkstra on the graph the planner built before
+    rng = np.random.default_rng(3)
+    r, radius, preferred = 0.1, 0.1, 0.3
+    for trial in range(4):
+        blocked = rng.random((40, 50)) < 0.08
+        grid = OccupancyGrid(r, (0.0, 0.0, 0.0), np.where(blocked, 100, 0).astype(np.int8))
+        planner = GridPlanner(grid, radius, preferred=preferred, clearance_cost=cost)
+        padded = np.pad(blocked, 1, constant_values=True)
+        clearance = ndimage.distance_transform_edt(~padded)[1:-1, 1:-1] * r
+        need = radius + np.sqrt(2.0) * r
+        graph, node = _dijkstra_reference(clearance, r, need, preferred, cost)
+        cells = np.argwhere(clearance >= need)
+        for _ in range(10):
+            (a, b) = cells[rng.choice(len(cells), 2, replace=False)]
+            want = csgraph.dijkstra(graph, directed=False, indices=node[a[0], a[1]])[
+                node[b[0], b[1]]
+            ]
+            chain = grid_search.astar(planner._field, need, planner.preferred, planner._span,
+                                      planner.clearance_cost, a[0] * 50 + a[1], b[0] * 50 + b[1])
+            if not np.isfinite(want):
+                assert len(chain) == 0
+                continue
+            rows, cols = chain // 50, chain % 50
+            steps = np.hypot(np.diff(rows), np.diff(cols)) * r
+            q = (np.clip((preferred - (clearance - np.sqrt(2.0) * r)) / (preferred - radius),
+                         0.0, 1.0)[rows, cols] if cost else np.zeros(len(chain)))  # fmt: skip
+            got = float(np.sum(steps * (1.0 + cost * (q[:-1] + q[1:]) / 2.0)))
+            assert got == pytest.approx(want, rel=1e-12), trial
+            assert (clearance[rows, cols] >= need).all()
