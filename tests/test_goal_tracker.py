@@ -136,8 +136,8 @@ def test_a_goal_in_an_obstacle_of_the_map_or_the_scans_is_refused() -> None:
     assert guided.goal_fault((2.0, 2.0)) == ""
     scan = ScanGuidedPlanner(planner, config, 12.0)
     assert scan.goal_fault((5.0, 5.0)) == ""  # not seen yet
-    rows, cols = scan.scan.map._cells(np.array([5.0]), np.array([5.0]))
-    scan.scan.map.hits[rows, cols] = 1  # the cell at (5, 5) read as an obstacle
+    # a ray from (4, 5) east ending at (5, 5): that cell read as an obstacle
+    scan.scan.map.update([[4.0, 5.0, 0.0]], [1.0], 3.0)
     assert "the scans have seen" in scan.goal_fault((5.0, 5.0))
     assert scan.goal_fault((8.0, 8.0)) == ""
 

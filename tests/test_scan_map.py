@@ -73,8 +73,10 @@ def test_a_beam_reading_lies_on_every_ray_of_its_cone() -> None:
     scan.update(cone, [3.0, 3.0, 3.0], max_range=4.0)
     rows, cols = np.nonzero(scan.data == OCCUPIED)
     ends = np.array([[2.0 + 3.0 * math.cos(a), 4.5 + 3.0 * math.sin(a)] for a in (-0.2, 0, 0.2)])
-    np.testing.assert_array_equal(sorted(zip(rows.tolist(), cols.tolist(), strict=True)),
-                                  sorted((int(y / 0.1), int(x / 0.1)) for x, y in ends))
+    np.testing.assert_array_equal(
+        sorted(zip(rows.tolist(), cols.tolist(), strict=True)),
+        sorted((int(y / 0.1), int(x / 0.1)) for x, y in ends),
+    )
 
 
 def test_the_plan_goes_round_a_wall_once_the_robot_has_read_it() -> None:
@@ -170,3 +172,79 @@ def test_the_swarm_robots_plan_passes_a_gap_its_hard_disc_closed() -> None:
     # the UGV keeps its hard disc (its mazes lost with the cost on the validation split)
     assert scan_guide_config(UGV).clearance_cost == 0.0
     assert scan_guide_config(swarm).hard_inflation == pytest.approx(1.5 * swarm.half_diagonal)
+
+
+def _numpy_update(hits, misses, origin, res, rays, readings, max_range, located):
+    """The scan map's update as it was in numpy (before the compiled kernel): the reference."""
+    n = hits.shape[0]
+
+    def cells(y, x):
+        rows = np.clip(np.floor((y - origin[1]) / res).astype(np.int64), 0, n - 1)
+        cols = np.clip(np.floor((x - origin[0]) / res).astype(np.int64), 0, n - 1)
+        return rows, cols
+
+    before = (hits > 0) & (hits >= misses)
+    hit = np.isfinite(readings) & (readings < max_range)
+    reach = np.where(hit, readings, max_range)
+    step = 0.5 * res
+    t = np.arange(math.ceil(max_range / step)) * step
+    along = t[None, :] < reach[:, None] - step
+    cos, sin = np.cos(rays[:, 2]), np.sin(rays[:, 2])
+    rows, cols = cells(rays[:, 1, None] + sin[:, None] * t, rays[:, 0, None] + cos[:, None] * t)
+    ray = np.broadcast_to(np.arange(len(rays))[:, None], along.shape)
+    passed = np.unique((ray[along] * n + rows[along]) * n + cols[along]) % (n * n)
+    np.add.at(misses.reshape(-1), passed, 1)
+    hit &= located
+    ends = cells(rays[hit, 1] + sin[hit] * reach[hit], rays[hit, 0] + cos[hit] * reach[hit])
+    np.add.at(hits.reshape(-1), np.unique(ends[0] * n + ends[1]), 1)
+    rows, cols = np.nonzero((hits > 0) & (hits >= misses) & ~before)
+    return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * res + origin
+
+
+def test_the_compiled_update_counts_as_the_numpy_one_did() -> None:
+    # cell for cell, rays leaving the map (border cells) and readings out of range included
+    rng = np.random.default_rng(11)
+    origin, res, size = (-1.0, 0.5), 0.05, 6.0
+    scan = ScanMap(size, res, origin)
+    n = scan.hits.shape[0]
+    hits, misses = np.zeros((n, n), np.int64), np.zeros((n, n), np.int64)
+    for _ in range(40):
+        k = 60
+        rays = np.c_[rng.uniform(-1.5, 5.5, (k, 2)), rng.uniform(-np.pi, np.pi, k)]
+        readings = np.where(rng.random(k) < 0.2, np.inf, rng.uniform(0.0, 3.5, k))
+        located = rng.random(k) < 0.7
+        got = scan.update(rays, readings, 3.0, located)
+        want = _numpy_update(hits, misses, origin, res, rays, readings, 3.0, located)
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(scan.hits, hits)
+        np.testing.assert_array_equal(scan.misses, misses)
+        np.testing.assert_array_equal(scan.occupied, (hits > 0) & (hits >= misses))
+    assert scan.occupied.any() and (scan.misses > 0).any()
+
+
+def test_a_growing_map_holds_every_ray_and_rolls_at_its_bound() -> None:
+    res = 0.05
+    grow = ScanMap(None, res, max_cells=256 * 256)
+    assert grow.hits.size == 0 and not grow.blocks((0.0, 0.0), 0.2)
+    far = ScanMap(40.0, res, (-20.0, -20.0))  # a fixed map holding all of it, the reference
+    for x in (0.0, 3.0, 6.0):  # the robot drives east, reading a wall 2 m north
+        rays = np.array([[x, 0.0, np.pi / 2], [x, 0.0, 0.0]])
+        for m in (grow, far):
+            m.update(rays, [2.0, np.inf], 3.5)
+        assert grow.blocks((x, 2.0), 0.1) and far.blocks((x, 2.0), 0.1)
+    # the cells it holds are the fixed map's, on the same lattice (a point on a cell's edge
+    # may fall either side: the two origins round differently)
+    rows0 = round((grow.origin[1] - far.origin[1]) / res)
+    cols0 = round((grow.origin[0] - far.origin[0]) / res)
+    h, w = grow.hits.shape
+    same = far.hits[rows0 : rows0 + h, cols0 : cols0 + w]
+    assert (grow.hits != same).sum() <= 4 and (
+        grow.misses != far.misses[rows0 : rows0 + h, cols0 : cols0 + w]
+    ).mean() < 0.01
+    assert far.hits.sum() == grow.hits.sum()  # nothing lost before the bound
+    assert h * w <= 256 * 256
+    # driving on past the bound (12.8 m square) it rolls: what is far behind is forgotten
+    for x in np.arange(9.0, 30.0, 3.0):
+        grow.update(np.array([[x, 0.0, np.pi / 2]]), [2.0], 3.5)
+    assert grow.hits.size <= 256 * 256 and grow.nbytes <= 256 * 256 * 5
+    assert grow.blocks((27.0, 2.0), 0.1) and not grow.blocks((0.0, 2.0), 0.1)

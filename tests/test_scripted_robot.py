@@ -5,9 +5,13 @@ Burger's limits), driven at the ``turtlebot3_burger`` preset's parameters and no
 
 from __future__ import annotations
 
+import time
+
 import pytest
 from ros_support import Graph
 from scripted_support import Burger, goal_msg
+
+from mentor_core.navigation.grid_planner import GridPlanner
 
 pytestmark = pytest.mark.ros
 
@@ -63,3 +67,28 @@ def test_a_goal_in_a_box_the_scans_have_seen_is_refused(graph: Graph) -> None:
     assert refused and "lies in an obstacle the scans have seen" in refused[0]
     assert not any(s.startswith("accepted") for s in burger.statuses)
     assert burger.sim.collisions == 0
+
+
+def test_a_slow_planner_leaves_the_controller_on_time(
+    graph: Graph, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 57: deciding on its timer, the node plans on the scan map beside the decisions;
+    with every plan made to take 0.8 s (three control periods) it still decides every period,
+    on the older plan meanwhile, and reaches the goal."""
+    plan = GridPlanner.plan
+
+    def slow(self: GridPlanner, start: object, goal: object) -> object:
+        time.sleep(0.8)
+        return plan(self, start, goal)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(GridPlanner, "plan", slow)
+    burger = Burger(graph, (3.0, 2.5, 1.0))
+    t0, decided = burger.sim.time, burger.planner.decisions
+    runs = burger.drive((7.0, 5.5))
+    assert [r.status for r in runs] == ["reached"], runs
+    assert runs[0].collisions == 0
+    scan = burger.planner.global_plan.planner.scan
+    assert scan.map.growing  # the preset sets no size: the map grows from the first pose
+    assert len(scan.plan_seconds) >= 2 and min(scan.plan_seconds) >= 0.8
+    periods = (burger.sim.time - t0) / burger.planner.control_period
+    assert burger.planner.decisions - decided >= 0.9 * periods

@@ -44,6 +44,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from mentor_core import (
+    MAX_CELLS,
     Bounds,
     GenomePlanner,
     GuideConfig,
@@ -51,6 +52,7 @@ from mentor_core import (
     MentorError,
     PlannerFrames,
     ScanGuidedPlanner,
+    ThreadPlans,
     bounds_in,
     guide_config,
 )
@@ -96,6 +98,7 @@ class GlobalPlan:
         values: dict[str, Any],
         on_ready: Callable[[], None],
         scan_guide: GuideConfig | None = None,
+        continuous: bool = False,
     ) -> None:
         self._node = node
         self._frames = frames
@@ -118,12 +121,28 @@ class GlobalPlan:
             origin = [float(v) for v in values["scan_map_origin"]]
             if len(origin) != 2 or not all(math.isfinite(v) for v in origin):
                 raise PlanSetupError(f"scan_map_origin: {origin} is not [x, y] in m")
-            if size > 0.0:
+            # deciding continuously, plans are made beside the decisions (lockstep: at once,
+            # as the benchmark makes them, so that the node equals it)
+            self._beside = dict(
+                worker=ThreadPlans() if continuous else None,
+                replan_every=float(values["plan_period"]) if continuous else 0.0,
+                max_cells=int(values["scan_map_max_cells"]),
+            )
+            if size > 0.0 or continuous:  # a fixed square, or a map that grows
                 corner = (origin[0], origin[1])
                 try:
-                    self.planner = ScanGuidedPlanner(planner, self._config, size, corner)
+                    self.planner = ScanGuidedPlanner(planner, self._config, size or None,
+                                                     corner, **self._beside)  # type: ignore[arg-type]
                 except ValueError as err:  # cells that would exhaust memory
                     raise PlanSetupError(f"scan_map_size: {err}") from None
+                if not size:
+                    cells = int(values["scan_map_max_cells"])
+                    node.get_logger().info(
+                        f"scan map: grows from the first pose, at most {cells} cells "
+                        f"({cells * 5 / 1e6:.0f} MB, a "
+                        f"{math.isqrt(cells) * self._config.resolution:.0f} m square), then "
+                        "rolls with the robot"
+                    )
             return
         config = guide_config(
             planner.profile,
@@ -175,7 +194,8 @@ class GlobalPlan:
         xmin, ymin, xmax, ymax = bounds_in(self._arena, to_odom)
         size = max(xmax - xmin, ymax - ymin)
         try:
-            self.planner = ScanGuidedPlanner(self._genome, self._config, size, (xmin, ymin))
+            self.planner = ScanGuidedPlanner(self._genome, self._config, size, (xmin, ymin),
+                                             **self._beside)  # type: ignore[arg-type]
         except ValueError as err:  # an arena too large for the scan map's cells
             self._log.error(f"no scan map of the arena: {err}", throttle_duration_sec=WARN_EVERY_S)
             return False
@@ -267,11 +287,13 @@ class GlobalPlan:
 def attach(
     node: Node, planner: GenomePlanner | None, frames: PlannerFrames,
     on_ready: Callable[[], None], scan_guide: GuideConfig | None = None,
+    continuous: bool = False,
 ) -> GlobalPlan | None:  # fmt: skip
     """Declare the global-plan parameters (defaults from the robot, ``docs/ros.md``); a
     :class:`GlobalPlan` when ``global_plan`` is true or the deployment has a scan map
     (``scan_guide``, its plan's settings) and a genome is loaded, else None. ``on_ready`` is
-    called when a map or a path comes (a waiting observation may go)."""
+    called when a map or a path comes (a waiting observation may go); ``continuous``: the
+    node decides on its timer, so a scan map's plans are made on a thread beside it."""
     profile = planner.profile if planner is not None else None
     defaults = guide_config(profile) if profile is not None else None
     declared = node.declare_parameters(
@@ -299,8 +321,23 @@ def attach(
             (
                 "scan_map_size",
                 0.0,
-                _descriptor("m, side of the scan map's square (0: the simulator's arena)",
+                _descriptor("m, side of the scan map's square (0: deciding on the timer, a map "
+                            "that grows from the first pose; in lockstep the simulator's arena)",
                             low=0.0),
+            ),
+            (
+                "scan_map_max_cells",
+                MAX_CELLS,
+                ParameterDescriptor(description="the most cells a growing scan map holds (5 "
+                                    "bytes a cell), then it rolls with the robot",
+                                    read_only=True),
+            ),
+            (
+                "plan_period",
+                1.0,
+                _descriptor("s: deciding on the timer, plan again on the scan map when the "
+                            "plan is this old (0: only when the path is blocked, the goal "
+                            "changes or the robot strays)", low=0.0),
             ),
             (
                 "scan_map_origin",
@@ -322,4 +359,7 @@ def attach(
                              "scan map)")
     if not (values["global_plan"] or scan_guide is not None) or planner is None:
         return None
-    return GlobalPlan(node, planner, frames, values, on_ready, scan_guide)
+    if int(values["scan_map_max_cells"]) < 1:
+        raise PlanSetupError(f"scan_map_max_cells: {values['scan_map_max_cells']} is not a "
+                             "positive number of cells")  # fmt: skip
+    return GlobalPlan(node, planner, frames, values, on_ready, scan_guide, continuous)

@@ -151,7 +151,7 @@ class PlannerNode(Node):
         #: the global plan (parameter global_plan), None without
         guide = None if p.deployed is None else p.deployed.guide
         self.global_plan = global_plan.attach(self, self.planner, self.frames, self._answer,
-                                              guide)  # fmt: skip
+                                              guide, p.decide_on_timer)  # fmt: skip
         self.decisions = 0
         self.zero_commands = 0
         #: cmd_vel sent again between decisions (``repeat_rate``)

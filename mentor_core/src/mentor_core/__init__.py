@@ -151,6 +151,7 @@ if TYPE_CHECKING:
     from mentor_core.files.genome_file import (
         save_genome as save_genome,
     )
+    from mentor_core.navigation.grid import MAX_CELLS as MAX_CELLS
 
     # navigation
     from mentor_core.navigation.grid import (
@@ -172,6 +173,8 @@ if TYPE_CHECKING:
     from mentor_core.navigation.map_file import load_map as load_map
     from mentor_core.navigation.map_file import save_map as save_map
     from mentor_core.navigation.map_world import load_world_file as load_world_file
+    from mentor_core.navigation.plan_worker import PlanResult as PlanResult
+    from mentor_core.navigation.plan_worker import ThreadPlans as ThreadPlans
     from mentor_core.navigation.scan_map import scan_guide_config as scan_guide_config
     from mentor_core.objectives.complexity import flops_ratio as flops_ratio
     from mentor_core.objectives.experience import experience_gain as experience_gain

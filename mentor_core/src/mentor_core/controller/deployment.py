@@ -27,6 +27,7 @@ drops it.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import math
 from collections.abc import Mapping, Sequence
@@ -82,6 +83,9 @@ class ScanMapPlan:
     """The weight of the plan's cost for keeping less than the default margin."""
     least_margin: Annotated[Float, Field(ge=0.0)] | None = None
     """m: the least margin the plan keeps with a clearance cost."""
+    plan_delay: Annotated[int, Field(ge=0)] = 0
+    """Decisions between asking for a plan and following it: a planner's delay simulated (0:
+    at once, as the planner node in lockstep; :mod:`mentor_core.navigation.plan_worker`)."""
 
     def guide(self, profile: RobotProfile, source: str | Path | None = None) -> GuideConfig:
         """The guide's settings for a planner of ``profile``; ConfigError naming ``source``
@@ -91,8 +95,9 @@ class ScanMapPlan:
             raise ConfigError(f"must be at most the plan's whole margin, {whole:g} m (a "
                               f"footprint radius of {profile.name}), got {self.least_margin}",
                               key="scan_map.least_margin", path=source)  # fmt: skip
-        return scan_guide_config(profile, self.lookahead, self.resolution,
-                                 self.least_margin, self.clearance_cost)  # fmt: skip
+        config = scan_guide_config(profile, self.lookahead, self.resolution,
+                                   self.least_margin, self.clearance_cost)  # fmt: skip
+        return dataclasses.replace(config, plan_delay=self.plan_delay)
 
 
 @config_dataclass

@@ -63,6 +63,9 @@ class GuideConfig:
             clearance cost, where keeping ``margin`` means a long way round (None:
             ``margin``, a hard disc; :mod:`~mentor_core.navigation.grid_planner`).
         clearance_cost: the weight of that cost (the planner's ``clearance_cost``).
+        plan_delay: decisions between asking for a plan on a scan map and following it (0:
+            at once; :mod:`~mentor_core.navigation.plan_worker`), a planner's delay
+            simulated in the benchmark.
     """
 
     lookahead: float
@@ -74,8 +77,11 @@ class GuideConfig:
     tolerance: float | None = None
     least_margin: float | None = None
     clearance_cost: float = 0.0
+    plan_delay: int = 0
 
     def __post_init__(self) -> None:
+        if not (isinstance(self.plan_delay, int) and self.plan_delay >= 0):
+            raise ValueError(f"plan_delay must be a whole number >= 0, got {self.plan_delay}")
         for name in ("lookahead", "replan_distance", "resolution"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
@@ -145,9 +151,16 @@ class PathGuide:
     ``planner`` may be shared by several guides on one map; :meth:`set_map` builds one.
     """
 
-    def __init__(self, config: GuideConfig, planner: GridPlanner | None = None) -> None:
+    def __init__(
+        self, config: GuideConfig, planner: GridPlanner | None = None, plans: bool = True
+    ) -> None:
         self.config = config
         self.planner = planner
+        #: it plans itself (at a new goal, map or straying); False: plans come from
+        #: :meth:`adopt` (made elsewhere, :mod:`~mentor_core.navigation.plan_worker`)
+        self.plans = plans
+        #: the last :meth:`target` found the robot off its path (beyond ``replan_distance``)
+        self.strayed = False
         #: the path followed ``(k, 2)`` (m, ``map``), None without one
         self.path: FloatArray | None = None
         #: how many paths have been planned or given (a caller republishes when it changes)
@@ -173,6 +186,12 @@ class PathGuide:
         self._set(as_path(path))
         self._given = True
 
+    def adopt(self, planner: GridPlanner, path: FloatArray | None) -> None:
+        """Follow ``path`` (None: none found), planned elsewhere by ``planner`` (whose map
+        the lines of sight to the carrot are checked on)."""
+        self.planner = planner
+        self._set(path)
+
     def _set(self, path: FloatArray | None) -> None:
         self.path = path
         self._from_s = 0.0
@@ -183,7 +202,7 @@ class PathGuide:
             self.revision += 1
 
     def _plan(self, xy: XY, goal: XY) -> None:
-        if self.planner is None or self._failed == goal:
+        if self.planner is None or self._failed == goal or not self.plans:
             return
         path = self.planner.plan(xy, goal)
         self._set(path)
@@ -201,6 +220,7 @@ class PathGuide:
             if not adopt:
                 self._set(None)
         self.carrot = None
+        self.strayed = False
         if self.path is None:
             self._plan(here, final)
         if self.path is None:
@@ -209,7 +229,8 @@ class PathGuide:
             self.path, here, self.config.lookahead, self._from_s, self._lengths
         )
         off = math.dist(here, point_at(self.path, s, self._lengths))
-        if off > self.config.replan_distance and self.planner is not None and not self._given:
+        self.strayed = off > self.config.replan_distance
+        if self.strayed and self.plans and self.planner is not None and not self._given:
             path = self.planner.plan(here, final)  # none from here: keep the old one
             if path is not None:
                 self._set(path)

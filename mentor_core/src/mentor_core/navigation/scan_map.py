@@ -14,7 +14,9 @@ has been; the memory of where obstacles are is the map.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -22,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 from mentor_core.navigation.follow import cumulative_length, point_at, progress
 from mentor_core.navigation.grid import (
     FREE,
+    MAX_CELLS,
     OCCUPIED,
     UNKNOWN,
     OccupancyGrid,
@@ -29,18 +32,23 @@ from mentor_core.navigation.grid import (
     grid_fault,
 )
 from mentor_core.navigation.guide import GuideConfig, PathGuide, guide_config
+from mentor_core.navigation.plan_worker import DelayedPlans, PlanJob, PlanWorker
 from mentor_core.sim.robots import RobotProfile
 from mentor_core.sim.sensors import beam_frames, sensor_readings
 from mentor_core.sim.world import Scenario
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
+XY = tuple[float, float]
 
 
 class ScanMap:
     """The occupancy grid of what one robot has read (module docstring): ``size`` m square
     from ``origin`` (its lower-left corner, default ``(0, 0)``, the arena's), cells of
-    ``resolution`` m; rays beyond it end on its border cells.
+    ``resolution`` m; rays beyond it end on its border cells. With ``size`` None it has no
+    border to set: it grows (:meth:`cover`) to hold every ray and goal, from the first pose,
+    up to ``max_cells`` cells; beyond that it rolls, as Nav2's rolling costmap does, keeping
+    the square of ``max_cells`` about the robot and forgetting what lies outside it.
 
     Each cell counts the rays that ended in it (hits) and the rays that passed through it
     (misses); it is occupied while its hits are at least its misses, free when only rays
@@ -50,34 +58,98 @@ class ScanMap:
     later pass a cell of the arc clear it) or, as :func:`scan_guided_goals` does unless
     asked, left out (an arc as wide as the cone closes gaps the robot could pass: measured
     in experiment E026, "A map of what the robot read").
+
+    The counts are 16-bit (a cell saturates after 65,535 rays, minutes of a robot standing
+    still, and keeps its last state); a decision touches only the cells its rays cross, in a
+    compiled kernel, so its cost does not grow with the map.
     """
 
     def __init__(
-        self, size: float, resolution: float, origin: tuple[float, float] = (0.0, 0.0)
-    ) -> None:
-        if not (math.isfinite(size) and size > 0 and math.isfinite(resolution) and resolution > 0):
+        self, size: float | None, resolution: float, origin: tuple[float, float] = (0.0, 0.0),
+        max_cells: int = MAX_CELLS,
+    ) -> None:  # fmt: skip
+        if not (math.isfinite(resolution) and resolution > 0):
+            raise ValueError(f"resolution must be positive, got {resolution}")
+        if size is not None and not (math.isfinite(size) and size > 0):
             raise ValueError(f"size and resolution must be positive, got {size}, {resolution}")
         if not all(math.isfinite(v) for v in origin):
             raise ValueError(f"origin must be finite, got {origin}")
-        fault = grid_fault(size, size, resolution, "the scan map")
-        if fault:
-            raise ValueError(fault)
+        if max_cells < 1:
+            raise ValueError(f"max_cells must be at least 1, got {max_cells}")
         self.resolution = float(resolution)
+        self.growing = size is None
+        #: the most cells the map holds (its memory: :attr:`nbytes`)
+        self.max_cells = int(max_cells) if self.growing else MAX_CELLS
+        n = 0
+        if size is not None:
+            fault = grid_fault(size, size, resolution, "the scan map")
+            if fault:
+                raise ValueError(fault)
+            n = max(1, math.ceil(size / resolution))
         self.origin = (float(origin[0]), float(origin[1]))
-        n = max(1, math.ceil(size / resolution))
-        self.hits = np.zeros((n, n), dtype=np.int32)
-        self.misses = np.zeros((n, n), dtype=np.int32)
+        self.hits = np.zeros((n, n), dtype=np.uint16)
+        self.misses = np.zeros((n, n), dtype=np.uint16)
+        #: ``(n, n)``: cells held occupied now (hits >= misses > ... module docstring)
+        self.occupied = np.zeros((n, n), dtype=np.bool_)
+
+    @property
+    def nbytes(self) -> int:
+        """The memory its cells hold (bytes)."""
+        return int(self.hits.nbytes + self.misses.nbytes + self.occupied.nbytes)
 
     @property
     def data(self) -> NDArray[np.int8]:
         """``(n, n)`` cell values: -1 unknown, 0 free, 100 occupied (module docstring)."""
         out = np.full(self.hits.shape, UNKNOWN, dtype=np.int8)
         out[self.misses > 0] = FREE
-        out[self._occupied()] = OCCUPIED
+        out[self.occupied] = OCCUPIED
         return out
 
-    def _occupied(self) -> NDArray[np.bool_]:
-        return (self.hits > 0) & (self.hits >= self.misses)
+    def cover(self, xmin: float, ymin: float, xmax: float, ymax: float,
+              centre: tuple[float, float] | None = None) -> None:  # fmt: skip
+        """Grow a growing map to hold the box ``[xmin, xmax] x [ymin, ymax]`` (m), in steps
+        of :data:`GROW_CELLS` cells on a lattice fixed by its first cover, so cells never
+        move; beyond ``max_cells`` the square about ``centre`` (default the box's) that fits
+        (a no-op for a map of fixed size)."""
+        if not self.growing:
+            return
+        res, step = self.resolution, GROW_CELLS
+        n_rows, n_cols = self.hits.shape
+        if n_rows == 0:  # the first cover fixes the lattice: cells of res from a step's corner
+            self.origin = (math.floor(xmin / res / step) * step * res,
+                           math.floor(ymin / res / step) * step * res)  # fmt: skip
+        x0, y0 = self.origin
+        c0 = min(0, math.floor((xmin - x0) / res / step) * step)
+        r0 = min(0, math.floor((ymin - y0) / res / step) * step)
+        c1 = max(n_cols, math.ceil((xmax - x0) / res / step) * step)
+        r1 = max(n_rows, math.ceil((ymax - y0) / res / step) * step)
+        if (c0, r0, c1, r1) == (0, 0, n_cols, n_rows):
+            return
+        side = max(step, math.isqrt(self.max_cells) // step * step)
+        if (r1 - r0) * (c1 - c0) > self.max_cells:  # roll: the square about the centre
+            cx, cy = centre if centre is not None else ((xmin + xmax) / 2, (ymin + ymax) / 2)
+            c0 = math.floor(((cx - x0) / res - side / 2) / step) * step
+            r0 = math.floor(((cy - y0) / res - side / 2) / step) * step
+            c1, r1 = c0 + side, r0 + side
+        self._reframe(r0, c0, r1 - r0, c1 - c0)
+
+    def _reframe(self, r0: int, c0: int, rows: int, cols: int) -> None:
+        """Hold cells ``[r0, r0 + rows) x [c0, c0 + cols)`` of the current lattice (keeping
+        what overlaps, forgetting the rest)."""
+        n_rows, n_cols = self.hits.shape
+        sr0, sc0 = max(r0, 0), max(c0, 0)
+        sr1, sc1 = min(r0 + rows, n_rows), min(c0 + cols, n_cols)
+
+        def moved(a: NDArray[Any]) -> NDArray[Any]:
+            b = np.zeros((rows, cols), dtype=a.dtype)
+            if sr0 < sr1 and sc0 < sc1:
+                b[sr0 - r0 : sr1 - r0, sc0 - c0 : sc1 - c0] = a[sr0:sr1, sc0:sc1]
+            return b
+
+        self.hits, self.misses = moved(self.hits), moved(self.misses)
+        self.occupied = moved(self.occupied)
+        res = self.resolution
+        self.origin = (self.origin[0] + c0 * res, self.origin[1] + r0 * res)
 
     def update(
         self, rays: ArrayLike, readings: ArrayLike, max_range: float,
@@ -87,85 +159,209 @@ class ScanMap:
         (m, +inf out of range); ``located`` ``(k,)`` (default all): whether a ray's reading
         marks its end cell as hit, or only the free cells before it (a beam's reading, whose
         hit may lie on any of its rays). Returns the centres ``(j, 2)`` of the cells that
-        became occupied."""
-        f = np.asarray(rays, dtype=np.float64).reshape(-1, 3)
+        became occupied, in row-major order."""
+        f = np.ascontiguousarray(np.asarray(rays, dtype=np.float64).reshape(-1, 3))
         r = np.asarray(readings, dtype=np.float64).reshape(-1)
-        before = self._occupied()
         marks = np.ones(len(r), dtype=bool) if located is None else np.asarray(located, bool)
+        if self.growing and len(f):
+            reach = max_range + self.resolution
+            self.cover(float(f[:, 0].min()) - reach, float(f[:, 1].min()) - reach,
+                       float(f[:, 0].max()) + reach, float(f[:, 1].max()) + reach,
+                       centre=(float(f[:, 0].mean()), float(f[:, 1].mean())))  # fmt: skip
         hit = np.isfinite(r) & (r < max_range)
-        reach = np.where(hit, r, max_range)
+        reach_m = np.where(hit, r, max_range)
         step = 0.5 * self.resolution
-        t = np.arange(math.ceil(max_range / step)) * step  # (s,)
-        along = t[None, :] < reach[:, None] - step  # up to half a cell short of the hit
-        cos, sin = np.cos(f[:, 2]), np.sin(f[:, 2])
-        ys = f[:, 1, None] + sin[:, None] * t
-        rows, cols = self._cells(ys, f[:, 0, None] + cos[:, None] * t)
-        ray = np.broadcast_to(np.arange(len(f))[:, None], along.shape)
-        n = self.hits.shape[0]
-        cells = n * n
-        # a ray counts once per cell it passes (keys: ray, then the cell's flat index)
-        passed = np.unique((ray[along] * n + rows[along]) * n + cols[along]) % cells
-        np.add.at(self.misses.reshape(-1), passed, 1)  # a view: the counts themselves
-        hit &= marks
-        ends = self._cells(f[hit, 1] + sin[hit] * reach[hit], f[hit, 0] + cos[hit] * reach[hit])
-        ended = np.unique(ends[0] * n + ends[1])  # a cell hit by several rays of a cone: once
-        np.add.at(self.hits.reshape(-1), ended, 1)
-        rows, cols = np.nonzero(self._occupied() & ~before)
+        t = np.arange(math.ceil(max_range / step), dtype=np.float64) * step  # (s,)
+        if not self.hits.size:
+            return np.zeros((0, 2))
+        # numpy's cos and sin, as before the kernel (numba's libm may differ in the last bit)
+        turn = np.ascontiguousarray(np.stack([np.cos(f[:, 2]), np.sin(f[:, 2])], axis=1))
+        became = _mark_rays(f, turn, reach_m, hit & marks, t, step, self.origin,
+                            self.resolution, self.hits, self.misses, self.occupied)  # fmt: skip
+        n_cols = self.hits.shape[1]
+        rows, cols = became // n_cols, became % n_cols
         return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution + self.origin
 
     def grid(self) -> OccupancyGrid:
         """The map as an :class:`OccupancyGrid` (its origin the map's)."""
         return OccupancyGrid(self.resolution, (*self.origin, 0.0), self.data)
 
+    def planning_grid(self) -> OccupancyGrid:
+        """What a plan with unknown space free needs of the map, in a tenth of the time of
+        :meth:`grid`: occupied cells 100, all others 0 (a snapshot: the map may change)."""
+        data = self.occupied.view(np.int8) * np.int8(OCCUPIED)
+        return OccupancyGrid(self.resolution, (*self.origin, 0.0), data)
+
     def blocks(self, xy: ArrayLike, radius: float) -> bool:
         """Whether a robot of ``radius`` m at ``xy`` would touch a cell this map holds
         occupied (:func:`~mentor_core.navigation.grid.disc_touches`)."""
+        if not self.occupied.size:
+            return False
         p = (np.asarray(xy, dtype=np.float64).reshape(2) - self.origin) / self.resolution
         r = radius / self.resolution
         r0, c0 = max(0, math.floor(p[1] - r)), max(0, math.floor(p[0] - r))
         window = np.s_[r0 : math.floor(p[1] + r) + 2, c0 : math.floor(p[0] + r) + 2]
-        hits = self.hits[window]
-        return disc_touches((hits > 0) & (hits >= self.misses[window]), p - (c0, r0), r)
+        return disc_touches(self.occupied[window], p - (c0, r0), r)
 
-    def _cells(self, y: FloatArray, x: FloatArray) -> tuple[IntArray, IntArray]:
-        n = self.hits.shape[0]
-        x0, y0 = self.origin
-        rows = np.clip(np.floor((y - y0) / self.resolution).astype(np.int64), 0, n - 1)
-        cols = np.clip(np.floor((x - x0) / self.resolution).astype(np.int64), 0, n - 1)
-        return rows, cols
+
+#: the step (cells) a growing scan map grows by, and the lattice its corners keep
+GROW_CELLS = 64
+
+
+def _mark_rays(rays: FloatArray, turn: FloatArray, reach: FloatArray, marks: NDArray[np.bool_],
+               t: FloatArray, step: float, origin: tuple[float, float], res: float,
+               hits: NDArray[np.uint16], misses: NDArray[np.uint16],
+               occupied: NDArray[np.bool_]) -> IntArray:  # fmt: skip
+    """:meth:`ScanMap.update`'s counting: each ray's cells up to half a cell short of its
+    reach gain a miss (once per ray: a ray's cells are monotone in row and column, so it
+    never comes back to a cell it left), the end cells of the rays that ``marks`` a hit
+    (once per cell), then the cells touched are judged again; the flat indices of those that
+    became occupied, sorted. The numpy arithmetic of the map before, cell for cell."""
+    n_rows, n_cols = hits.shape
+    x0, y0 = origin
+    k = rays.shape[0]
+    touched = np.empty(k * (t.shape[0] + 1), dtype=np.int64)
+    m = 0
+    for i in range(k):
+        cos, sin = turn[i, 0], turn[i, 1]
+        last = -1
+        for j in range(t.shape[0]):
+            if not t[j] < reach[i] - step:
+                break
+            row = min(max(math.floor((rays[i, 1] + sin * t[j] - y0) / res), 0), n_rows - 1)
+            col = min(max(math.floor((rays[i, 0] + cos * t[j] - x0) / res), 0), n_cols - 1)
+            cell = row * n_cols + col
+            if cell != last:
+                if misses[row, col] < 65535:
+                    misses[row, col] += 1
+                touched[m] = cell
+                m += 1
+                last = cell
+    ends = np.empty(k, dtype=np.int64)
+    e = 0
+    for i in range(k):
+        if marks[i]:
+            cos, sin = turn[i, 0], turn[i, 1]
+            row = min(max(math.floor((rays[i, 1] + sin * reach[i] - y0) / res), 0), n_rows - 1)
+            col = min(max(math.floor((rays[i, 0] + cos * reach[i] - x0) / res), 0), n_cols - 1)
+            ends[e] = row * n_cols + col
+            e += 1
+    ended = np.unique(ends[:e])
+    for cell in ended:
+        row, col = cell // n_cols, cell % n_cols
+        if hits[row, col] < 65535:
+            hits[row, col] += 1
+        touched[m] = cell
+        m += 1
+    became = np.empty(m, dtype=np.int64)
+    b = 0
+    for q in range(m):
+        cell = touched[q]
+        row, col = cell // n_cols, cell % n_cols
+        now = hits[row, col] > 0 and hits[row, col] >= misses[row, col]
+        if now != occupied[row, col]:
+            occupied[row, col] = now
+            if now:
+                became[b] = cell
+                b += 1
+    return np.sort(became[:b])
+
+
+try:
+    from numba import njit
+
+    _mark_rays = njit(cache=True, nogil=True)(_mark_rays)
+except ImportError:  # pragma: no cover - numba is in the lock file
+    pass
 
 
 class ScanGuide:
-    """One robot's plan on its own :class:`ScanMap` of side ``size`` m from ``origin``
-    (module docstring)."""
+    """One robot's plan on its own :class:`ScanMap` of side ``size`` m from ``origin`` (None:
+    a growing map of at most ``max_cells`` cells) (module docstring).
+
+    Plans are made at once, when asked (the benchmark's, and lockstep's, decisions), or by
+    ``worker`` (:mod:`~mentor_core.navigation.plan_worker`; a config's ``plan_delay`` makes
+    one that hands each plan back that many decisions late): then each decision follows
+    the latest plan it has, and asks for a new one, on a snapshot of the map, when the goal
+    changes, when a newly seen obstacle lies near the path (or there is no path and the map
+    changed), when the robot strays from the path, or when the plan is older than
+    ``replan_every`` s of ``clock`` (0: never for its age).
+    """
 
     def __init__(
-        self, size: float, config: GuideConfig, origin: tuple[float, float] = (0.0, 0.0)
-    ) -> None:
-        self.map = ScanMap(size, config.resolution, origin)
-        self.guide = PathGuide(config)
-        self.guide.set_map(self.map.grid())
+        self, size: float | None, config: GuideConfig, origin: tuple[float, float] = (0.0, 0.0),
+        worker: PlanWorker | None = None, replan_every: float = 0.0,
+        clock: Callable[[], float] = time.monotonic, max_cells: int = MAX_CELLS,
+    ) -> None:  # fmt: skip
+        self.map = ScanMap(size, config.resolution, origin, max_cells)
+        if worker is None and config.plan_delay > 0:
+            worker = DelayedPlans(config.plan_delay)
+        self.worker = worker
+        self.guide = PathGuide(config, plans=worker is None)
+        if worker is None:
+            self.guide.set_map(self.map.planning_grid() if config.allow_unknown
+                               else self.map.grid())  # fmt: skip
         self.plans = 0  # maps planned on, the first included
+        self.replan_every = float(replan_every)
+        self._clock = clock
+        self._asked: tuple[XY, float] | None = None  # the goal asked for last, and when
+        #: seconds each plan took (with a worker), for measurement
+        self.plan_seconds: list[float] = []
+
+    def _snapshot(self) -> OccupancyGrid:
+        config = self.guide.config
+        return self.map.planning_grid() if config.allow_unknown else self.map.grid()
 
     def refresh(self) -> None:
         """Plan on the map as it is now at the next :meth:`target` (the plan followed is
         made only on the map as it was when a newly seen obstacle last blocked it)."""
-        self.guide.set_map(self.map.grid())
+        if self.worker is None:
+            self.guide.set_map(self._snapshot())
+        else:
+            self._asked = None
         self.plans += 1
 
     def target(self, rays: ArrayLike, readings: ArrayLike, max_range: float,
                xy: ArrayLike, goal: ArrayLike,
                located: ArrayLike | None = None) -> tuple[float, float]:  # fmt: skip
         """Add the rays' readings to the map (:meth:`ScanMap.update`), plan again if they
-        block the path, and return the goal the network should see
+        block the path (or ask the worker to), and return the goal the network should see
         (:meth:`PathGuide.target`)."""
         new = self.map.update(rays, readings, max_range, located)
+        if self.worker is not None:
+            return self._beside(new, xy, goal)
         path = self.guide.path
         if new.size and (path is None or _near(new, path, self.guide.config)):
-            self.guide.set_map(self.map.grid())
+            self.guide.set_map(self._snapshot())
             self.plans += 1
         return self.guide.target(xy, goal)
 
+    def _beside(self, new: FloatArray, xy: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+        """:meth:`target` with plans made by the worker (class docstring)."""
+        assert self.worker is not None
+        here = (float(np.asarray(xy)[0]), float(np.asarray(xy)[1]))
+        final = (float(np.asarray(goal)[0]), float(np.asarray(goal)[1]))
+        if self.map.growing:  # the goal on the map, with room to plan round it
+            room = self.guide.config.inflation + self.guide.config.lookahead
+            self.map.cover(min(here[0], final[0]) - room, min(here[1], final[1]) - room,
+                           max(here[0], final[0]) + room, max(here[1], final[1]) + room,
+                           centre=here)  # fmt: skip
+        done = self.worker.poll()
+        if done is not None and done.owner is self and self._asked is not None:
+            self.plan_seconds.append(done.seconds)
+            if done.goal == self._asked[0] == final:
+                self.guide.adopt(done.planner, done.path)
+        path, now = self.guide.path, self._clock()
+        ask = (self._asked is None or self._asked[0] != final
+               or (new.size > 0 and (path is None or _near(new, path, self.guide.config)))
+               or self.guide.strayed)  # fmt: skip
+        if not ask and self.replan_every > 0.0 and not self.worker.busy:
+            ask = self._asked is not None and now - self._asked[1] >= self.replan_every
+        if ask:
+            self.worker.submit(PlanJob(self, self._snapshot(), here, final, self.guide.config))
+            self._asked = (final, now)
+            self.plans += 1
+        return self.guide.target(here, final)
 
     def read(self, pose: ArrayLike, readings: ArrayLike, goal: ArrayLike, profile: RobotProfile,
              beam_arcs: bool = False) -> tuple[float, float]:  # fmt: skip

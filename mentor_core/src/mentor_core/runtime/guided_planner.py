@@ -23,8 +23,9 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mentor_core.navigation.grid import OccupancyGrid, disc_touches
+from mentor_core.navigation.grid import MAX_CELLS, OccupancyGrid, disc_touches
 from mentor_core.navigation.guide import GuideConfig, PathGuide
+from mentor_core.navigation.plan_worker import PlanWorker
 from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.planner import GenomePlanner
 
@@ -91,20 +92,28 @@ class GuidedPlanner:
 class ScanGuidedPlanner:
     """An evolved genome steering along a plan on the map of its own readings (module
     docstring): a map of side ``size`` m from ``origin`` (its lower-left corner, in the frame
-    the poses are in), unknown space planned as free.
+    the poses are in), or with ``size`` None a map that grows from where the robot starts up
+    to ``max_cells`` cells (then rolls); unknown space planned as free.
 
     Args:
         planner: the genome's planner (network, profile, limits).
         config: the guide's settings (:func:`mentor_core.navigation.guide.guide_config`).
+        worker: where plans are made (None: at once, as the benchmark makes them;
+            :class:`~mentor_core.navigation.plan_worker.ThreadPlans`: beside the decisions),
+            and ``replan_every`` s: plan again when the plan is that old (0: never for its
+            age) (:class:`~mentor_core.navigation.scan_map.ScanGuide`).
     """
 
     def __init__(
-        self, planner: GenomePlanner, config: GuideConfig, size: float,
-        origin: tuple[float, float] = (0.0, 0.0),
+        self, planner: GenomePlanner, config: GuideConfig, size: float | None,
+        origin: tuple[float, float] = (0.0, 0.0), worker: PlanWorker | None = None,
+        replan_every: float = 0.0, max_cells: int = MAX_CELLS,
     ) -> None:  # fmt: skip
         self.planner = planner
-        self._blank = (float(size), config, (float(origin[0]), float(origin[1])))
-        self.scan = ScanGuide(*self._blank)
+        self._blank = dict(size=None if size is None else float(size), config=config,
+                           origin=(float(origin[0]), float(origin[1])), worker=worker,
+                           replan_every=replan_every, max_cells=max_cells)  # fmt: skip
+        self.scan = ScanGuide(**self._blank)  # type: ignore[arg-type]
 
     @property
     def guide(self) -> PathGuide:
@@ -120,7 +129,7 @@ class ScanGuidedPlanner:
         if keep_map:
             self.scan.refresh()
         else:
-            self.scan = ScanGuide(*self._blank)
+            self.scan = ScanGuide(**self._blank)  # type: ignore[arg-type]
 
     def goal_fault(self, goal: ArrayLike) -> str:
         """Why ``goal`` (x, y) cannot be reached on the scan map (one line: it lies in an
