@@ -14,7 +14,10 @@ start/goal pair 4-5 m apart, solvable for the robot's body, in one world of a be
 family (10 m side) drawn from ``--seed``; the robot is placed at the start and sent the goal
 on ``/goal_pose``, as RViz's tool does, the planner keeping its scan map from goal to goal.
 Prints one line per goal (how it ended, sim s, m driven, m left, collisions) and the total.
-Issue 56; experiment E091; ``docs/ros.md``, "Your own robot". Run it with
+Issue 56; experiment E091; ``docs/ros.md``, "Your own robot". ``--param KEY=VALUE`` changes a
+parameter of the preset (a YAML value: ``--param scan_map_size=100``); ``--timing`` also prints
+the node's time from each answered scan's arrival to its Twist's publication and the time of
+its plans on the scan map (p50, p95, p99, max; issue 57). Run it with
 ``ros2_ws/interfaces/install/local_setup.bash`` sourced for TF (else frames come from the
 preset's parameters).
 """
@@ -34,6 +37,7 @@ for _pkg in ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "men
 # ruff: noqa: E402 (the imports below need the node packages on sys.path)
 import numpy as np
 import rclpy
+import yaml
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
@@ -75,11 +79,16 @@ def goal_pairs(family: str, count: int, seed: int,
 
 
 def run(robot: str, genome: str, world: World, pairs: list[tuple[tuple, tuple]],
-        speedup: float, limit: float) -> list[GoalRun]:  # fmt: skip
-    """Drive to each pair's goal from its start, in one world, one planner node (its scan
-    map kept from goal to goal, as the preset keeps it); the :class:`GoalRun` of each."""
+        speedup: float, limit: float, extra: dict[str, object] | None = None,
+        ) -> tuple[list[GoalRun], dict[str, list[float]]]:  # fmt: skip
+    """Drive to each pair's goal from its start, in one world, one planner node with the
+    preset's parameters and ``extra`` (its scan map kept from goal to goal, as the preset
+    keeps it); the :class:`GoalRun` of each and the node's timings (s: ``latency`` from each
+    answered scan's arrival, ``answer`` from the answer's start, both to its Twist; ``plan``
+    of each plan on the scan map)."""
     values = {**preset_values(SOURCE_CONFIG / f"{robot}.yaml"), "genome": genome,
-              "use_sim_time": True}
+              "use_sim_time": True, **(extra or {})}
+    timings: dict[str, list[float]] = {"latency": [], "answer": [], "plan": []}
     context = Context()
     rclpy.init(context=context)
     executor = SingleThreadedExecutor(context=context)
@@ -99,12 +108,25 @@ def run(robot: str, genome: str, world: World, pairs: list[tuple[tuple, tuple]],
             run_for(spin, rig.robot, 1.0, speedup)
             runs += drive_goals(spin, rig.robot, rig.goal_pub, rig.statuses, [goal], speedup,
                                 limit)  # fmt: skip
+        timings["latency"] = list(rig.planner.latencies)
+        timings["answer"] = list(rig.planner.answer_seconds)
+        plan = rig.planner.global_plan
+        if plan is not None and plan.planner is not None and hasattr(plan.planner, "scan"):
+            timings["plan"] = list(plan.planner.scan.plan_seconds)
     finally:
         executor.shutdown()
         for node in list(executor.get_nodes()):
             node.destroy_node()
         rclpy.try_shutdown(context=context)
-    return runs
+    return runs, timings
+
+
+def quantiles_ms(values: list[float]) -> str:
+    """``p50 / p95 / p99 / max`` of ``values`` (s) in ms, and how many."""
+    if not values:
+        return "none"
+    q = np.percentile(np.asarray(values) * 1e3, [50, 95, 99, 100])
+    return f"{q[0]:.1f} / {q[1]:.1f} / {q[2]:.1f} / {q[3]:.1f} ms of {len(values)}"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -116,11 +138,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--speedup", type=float, default=4.0, help="sim s per wall s")
     p.add_argument("--limit", type=float, default=120.0, help="sim s a goal may take")
+    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="change a parameter of the preset (a YAML value)")
+    p.add_argument("--timing", action="store_true", help="print the node's timings too")
     args = p.parse_args(argv)
+    extra = {}
+    for item in args.param:
+        key, sep, value = item.partition("=")
+        if not sep:
+            p.error(f"--param {item}: expected KEY=VALUE")
+        extra[key] = yaml.safe_load(value)
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     os.environ.setdefault("ROS_DOMAIN_ID", "43")
     world, pairs = goal_pairs(args.family, args.goals, args.seed, SPECS[args.robot].body)
-    runs = run(args.robot, args.genome, world, pairs, args.speedup, args.limit)
+    runs, timings = run(args.robot, args.genome, world, pairs, args.speedup, args.limit, extra)
     for k, r in enumerate(runs):
         print(f"goal {k + 1}: {r.status or 'no end'}; {r.seconds:.1f} s, {r.driven:.2f} m "
               f"driven, {r.left:.2f} m left, {r.collisions} collisions", flush=True)
@@ -128,6 +159,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     collided = sum(r.collisions > 0 for r in runs)
     print(f"{args.robot}, {args.family}, seed {args.seed}: {reached} of {len(runs)} goals "
           f"reached, {collided} with a collision")
+    if args.timing:
+        print(f"scan to Twist (p50 / p95 / p99 / max): {quantiles_ms(timings['latency'])}")
+        print(f"answer to Twist (tick or scan): {quantiles_ms(timings['answer'])}")
+        print(f"plans on the scan map: {quantiles_ms(timings['plan'])}")
     return 0
 
 

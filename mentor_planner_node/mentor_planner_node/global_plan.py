@@ -16,8 +16,12 @@ With a deployment whose ``scan_map`` is set (``deployment:=shipped``) it plans i
 map of what its own scans read, unknown space free, with the deployment's plan settings
 (:class:`mentor_core.ScanGuidedPlanner`, as ``mentor-bench --deployment`` runs the planners): a
 square of ``scan_map_size`` m from ``scan_map_origin`` in the frame it decides in (the
-odometry frame), or with a size of 0 the square about the simulator's arena
-(``/mentor/obstacles``) in that frame, which it waits for. The map starts empty at each
+odometry frame), or with a size of 0 a map that grows from the first pose when it decides on
+its timer (``scan_map_max_cells`` at most, then it rolls), and in lockstep the square about
+the simulator's arena (``/mentor/obstacles``) in that frame, which it waits for. Deciding on
+its timer, its plans are made on a thread beside the decisions (:class:`mentor_core.ThreadPlans`,
+again at least every ``plan_period`` s); in lockstep inside the decision, as the benchmark
+makes them (``docs/ros.md``, "Planning beside the controller"). The map starts empty at each
 simulator episode's ``started`` event, as each benchmark episode does, and is kept from goal
 to goal (``scan_map_keep``, the default; experiment E048, "The scan map from goal to
 goal"), or with ``scan_map_keep:=false`` starts empty at each new goal too. It is published on

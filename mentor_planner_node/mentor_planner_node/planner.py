@@ -39,6 +39,8 @@ map of its own scans, which it publishes on ``scan_map`` (:mod:`.global_plan`).
 from __future__ import annotations
 
 import math
+import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
@@ -153,6 +155,12 @@ class PlannerNode(Node):
         self.global_plan = global_plan.attach(self, self.planner, self.frames, self._answer,
                                               guide, p.decide_on_timer)  # fmt: skip
         self.decisions = 0
+        #: s from each answered scan's arrival to its Twist's publication, and from the start
+        #: of the answer (the timer's tick, or the scan) to it (wall clock; the latest 100,000
+        #: each), for ``benchmarks/tools/scripted_robot_goals.py --timing``
+        self.latencies: deque[float] = deque(maxlen=100_000)
+        self.answer_seconds: deque[float] = deque(maxlen=100_000)
+        self._scan_arrived = 0.0
         self.zero_commands = 0
         #: cmd_vel sent again between decisions (``repeat_rate``)
         self.repeats = 0
@@ -279,6 +287,7 @@ class PlannerNode(Node):
         self.get_logger().warning(text, throttle_duration_sec=WARN_EVERY_S)
 
     def _on_scan(self, msg: LaserScan) -> None:
+        self._scan_arrived = time.perf_counter()
         if self.frames.uses_tf and not self.frames.has_odometry:
             return  # no pose to pair it with, and the body frame its mount hangs from unknown
         kind = self.params.scan_kind
@@ -466,6 +475,7 @@ class PlannerNode(Node):
     # ------------------------------------------------------------------ answers
 
     def _answer(self) -> None:
+        began = time.perf_counter()
         if self.global_plan is not None and not self.global_plan.ready:
             return  # nothing to follow yet: the observation waits for a map or a path
         obs = self.gate.take(self._steady_ns())
@@ -501,6 +511,9 @@ class PlannerNode(Node):
             self._finish("aborted", fault)
             return
         self._send(twist)
+        sent = time.perf_counter()
+        self.latencies.append(sent - self._scan_arrived)
+        self.answer_seconds.append(sent - began)
         self.decisions += 1
         if self.on_decision is not None:
             self.on_decision(obs.pose, step.distance)

@@ -126,7 +126,7 @@ def _astar(field: Field, need: float, preferred: float, span: float, cost: float
     h, w = memo.shape
     seen = np.zeros(h * w, dtype=np.uint8)  # 1 open, 2 closed
     g = np.empty(h * w, dtype=np.float64)
-    parent = np.empty(h * w, dtype=np.int64)
+    parent = np.empty(h * w, dtype=np.int32)  # a map holds fewer than 2^31 cells
     heap = np.empty((1024, 3), dtype=np.float64)  # f, h, node
     tr, tc = target // w, target % w
     g[source] = 0.0

@@ -45,11 +45,12 @@ class PlanResult:
 
 @dataclass(frozen=True)
 class PlanJob:
-    """A plan to make on ``grid`` (a snapshot) from ``start`` to ``goal`` with ``config``, for
+    """A plan to make on the map ``grid`` gives (a snapshot, built by the worker: a copy of
+    the cells is all the decision pays) from ``start`` to ``goal`` with ``config``, for
     ``owner`` (who asked: a result for a guide since replaced is not used)."""
 
     owner: object
-    grid: OccupancyGrid
+    grid: Callable[[], OccupancyGrid]
     start: XY
     goal: XY
     config: GuideConfig
@@ -57,7 +58,7 @@ class PlanJob:
     def run(self) -> PlanResult:
         """Make the plan (:class:`~.grid_planner.GridPlanner`)."""
         began = time.perf_counter()
-        planner = self.config.planner(self.grid)
+        planner = self.config.planner(self.grid())
         path = planner.plan(self.start, self.goal)
         return PlanResult(self.owner, self.goal, self.start, planner, path,
                           time.perf_counter() - began)
@@ -132,6 +133,8 @@ class ThreadPlans:
         self._done: PlanResult | None = None
         self._closed = False
         self._on_done = on_done
+        #: the last job that failed, as one line ('' : none); the thread goes on
+        self.error = ""
         self._thread = threading.Thread(target=self._loop, name="mentor-plan", daemon=True)
         self._thread.start()
 
@@ -167,11 +170,13 @@ class ThreadPlans:
                 self._running = True
             assert job is not None
             try:
-                result = job.run()
-            finally:
-                with self._lock:
-                    self._running = False
+                result: PlanResult | None = job.run()
+            except Exception as err:  # a bug must not end planning: the next job may pass
+                result = None
+                self.error = f"{type(err).__name__}: {err}"
             with self._lock:
-                self._done = result
-            if self._on_done is not None:
+                self._running = False
+                if result is not None:
+                    self._done = result
+            if result is not None and self._on_done is not None:
                 self._on_done(result)

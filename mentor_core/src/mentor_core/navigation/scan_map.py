@@ -189,8 +189,18 @@ class ScanMap:
     def planning_grid(self) -> OccupancyGrid:
         """What a plan with unknown space free needs of the map, in a tenth of the time of
         :meth:`grid`: occupied cells 100, all others 0 (a snapshot: the map may change)."""
-        data = self.occupied.view(np.int8) * np.int8(OCCUPIED)
-        return OccupancyGrid(self.resolution, (*self.origin, 0.0), data)
+        return self.snapshot(True)()
+
+    def snapshot(self, unknown_free: bool) -> Callable[[], OccupancyGrid]:
+        """The map as it is now, as a plan needs it (:meth:`planning_grid` with
+        ``unknown_free``, else :meth:`grid`), built when called: now only the cells are
+        copied, so that a decision handing a plan to another thread pays a copy, no more."""
+        res, origin = self.resolution, (*self.origin, 0.0)
+        if unknown_free:
+            occupied = self.occupied.copy()
+            return lambda: OccupancyGrid(res, origin, occupied.view(np.int8) * np.int8(OCCUPIED))
+        data = self.data
+        return lambda: OccupancyGrid(res, origin, data)
 
     def blocks(self, xy: ArrayLike, radius: float) -> bool:
         """Whether a robot of ``radius`` m at ``xy`` would touch a cell this map holds
@@ -298,9 +308,8 @@ class ScanGuide:
             worker = DelayedPlans(config.plan_delay)
         self.worker = worker
         self.guide = PathGuide(config, plans=worker is None)
-        if worker is None:
-            self.guide.set_map(self.map.planning_grid() if config.allow_unknown
-                               else self.map.grid())  # fmt: skip
+        if worker is None and self.map.hits.size:  # a growing map: at its first cells
+            self.guide.set_map(self._snapshot())
         self.plans = 0  # maps planned on, the first included
         self.replan_every = float(replan_every)
         self._clock = clock
@@ -309,8 +318,7 @@ class ScanGuide:
         self.plan_seconds: list[float] = []
 
     def _snapshot(self) -> OccupancyGrid:
-        config = self.guide.config
-        return self.map.planning_grid() if config.allow_unknown else self.map.grid()
+        return self.map.snapshot(self.guide.config.allow_unknown)()
 
     def refresh(self) -> None:
         """Plan on the map as it is now at the next :meth:`target` (the plan followed is
@@ -328,6 +336,8 @@ class ScanGuide:
         block the path (or ask the worker to), and return the goal the network should see
         (:meth:`PathGuide.target`)."""
         new = self.map.update(rays, readings, max_range, located)
+        if self.map.growing:  # the goal on the map, with room to plan round it
+            self._cover(xy, goal)
         if self.worker is not None:
             return self._beside(new, xy, goal)
         path = self.guide.path
@@ -341,11 +351,6 @@ class ScanGuide:
         assert self.worker is not None
         here = (float(np.asarray(xy)[0]), float(np.asarray(xy)[1]))
         final = (float(np.asarray(goal)[0]), float(np.asarray(goal)[1]))
-        if self.map.growing:  # the goal on the map, with room to plan round it
-            room = self.guide.config.inflation + self.guide.config.lookahead
-            self.map.cover(min(here[0], final[0]) - room, min(here[1], final[1]) - room,
-                           max(here[0], final[0]) + room, max(here[1], final[1]) + room,
-                           centre=here)  # fmt: skip
         done = self.worker.poll()
         if done is not None and done.owner is self and self._asked is not None:
             self.plan_seconds.append(done.seconds)
@@ -358,10 +363,21 @@ class ScanGuide:
         if not ask and self.replan_every > 0.0 and not self.worker.busy:
             ask = self._asked is not None and now - self._asked[1] >= self.replan_every
         if ask:
-            self.worker.submit(PlanJob(self, self._snapshot(), here, final, self.guide.config))
+            snapshot = self.map.snapshot(self.guide.config.allow_unknown)
+            self.worker.submit(PlanJob(self, snapshot, here, final, self.guide.config))
             self._asked = (final, now)
             self.plans += 1
         return self.guide.target(here, final)
+
+    def _cover(self, xy: ArrayLike, goal: ArrayLike) -> None:
+        """Grow the map to hold the robot and its goal, with room to plan round them: the
+        plan's disc and lookahead and half their distance (the outside of the map is an
+        obstacle to the plan: a detour needs the room)."""
+        (x, y), (gx, gy) = np.asarray(xy, dtype=float)[:2], np.asarray(goal, dtype=float)[:2]
+        config = self.guide.config
+        room = config.inflation + config.lookahead + 0.5 * math.hypot(gx - x, gy - y)
+        self.map.cover(min(x, gx) - room, min(y, gy) - room, max(x, gx) + room,
+                       max(y, gy) + room, centre=(float(x), float(y)))  # fmt: skip
 
     def read(self, pose: ArrayLike, readings: ArrayLike, goal: ArrayLike, profile: RobotProfile,
              beam_arcs: bool = False) -> tuple[float, float]:  # fmt: skip
