@@ -21,9 +21,22 @@ from mentor_core.irsim.world_file import SPLITS
 from mentor_core.irsim.worlds import ROBOT_CODES, make_world, world_names
 
 
+class _Dumper(yaml.SafeDumper):
+    """Blocks, with lists of numbers, shapes and agents in flow style (one line each)."""
+
+
+def _mapping(dumper: yaml.SafeDumper, data: dict) -> yaml.Node:
+    flow = "shape" in data
+    return dumper.represent_mapping("tag:yaml.org,2002:map", data, flow_style=flow or None)
+
+
+_Dumper.add_representer(dict, _mapping)
+
+
 def render(document: dict) -> str:
-    """A world's YAML text: blocks, lists of numbers in flow style."""
-    return yaml.safe_dump(document, sort_keys=False, default_flow_style=None, width=99)
+    """A world's YAML text (:class:`_Dumper`)."""
+    return yaml.dump(document, Dumper=_Dumper, sort_keys=False, default_flow_style=None,
+                     width=99)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -48,8 +48,9 @@ OUTCOMES = ("reached", "collision_static", "collision_agent", "timeout")
 class EpisodeResult:
     """How one episode ended (module docstring): ``outcome`` one of :data:`OUTCOMES`, sim
     ``time`` (s), ``path_length`` (m), the pair's ``shortest`` (m), ``spl``, the driver's
-    ``decisions``, the scans it ``refused`` and the ``agent_speed`` of an agent it touched; with ``record`` the robot's poses ``(t, 3)``
-    and the agents' positions ``(t, m, 2)``, one row per IR-SIM step from the start."""
+    ``decisions``, the scans it ``refused`` and the ``agent_speed`` of an agent it touched;
+    with ``record`` the robot's poses ``(t, 3)`` and the agents' positions ``(t, m, 2)``,
+    one row per IR-SIM step from the start."""
 
     world: str
     pair: int

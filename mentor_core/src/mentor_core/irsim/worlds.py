@@ -21,8 +21,8 @@ speeds by the robot's top pace (``k_v = rated_speed``: the UGV's 1 m/s, the Swar
 - ``crossing``: 10 agents in two flows across the robot's way, back and forth (RVO);
 - ``corridor``: a corridor 2.6 k wide, 4 agents walking towards the robot along it;
 - ``crowd``: 15 agents (social force) wandering about the start-goal line;
-- ``stopper``: one agent walks onto the start-goal line ahead of the robot and stays there,
-  and 2 wander.
+- ``stopper``: one agent walks onto the start-goal line ahead of the robot (there before the
+  robot can be) and stays there, and 2 wander.
 
 **Pairs** as the benchmark draws them (:func:`mentor_core.navigation.pairs.solvable_pairs`:
 the trainer's clearance, the unseen test's distances, solvable for the body's disc within
@@ -184,8 +184,11 @@ def cluttered_office(size: float, k: float, rng: np.random.Generator) -> list[Sh
 
 def few_pillars(size: float, k: float, rng: np.random.Generator) -> list[Shape]:
     """The dynamic families' light layout: 4-6 round pillars."""
-    return [circle(*rng.uniform(1.5 * k, size - 1.5 * k, 2), rng.uniform(0.2, 0.4) * k)
-            for _ in range(int(rng.integers(4, 7)))]  # fmt: skip
+    out = []
+    for _ in range(int(rng.integers(4, 7))):
+        x, y = rng.uniform(1.5 * k, size - 1.5 * k, 2)
+        out.append(circle(x, y, rng.uniform(0.2, 0.4) * k))
+    return out
 
 
 def corridor_walls(size: float, k: float, rng: np.random.Generator) -> list[Shape]:
@@ -261,9 +264,9 @@ def agent(i: int, xy: FloatArray, goals: list[FloatArray], speed: float, radius:
 
 
 def agents_for(family: str, pair: Scenario, world: World, k: float, pace: float,
-               rng: np.random.Generator) -> list[Shape]:  # fmt: skip
+               goal_radius: float, rng: np.random.Generator) -> list[Shape]:  # fmt: skip
     """The agents of a dynamic family's pair (module docstring), each placed in free space
-    away from the robot's start and goal."""
+    away from the robot's start and goal (``goal_radius`` m: the robot's)."""
     size = world.size
     start, goal = np.array(pair.start[:2]), np.array(pair.goal)
     along = goal - start
@@ -335,11 +338,15 @@ def agents_for(family: str, pair: Scenario, world: World, k: float, pace: float,
             out.append(agent(i, a, [b, a], speed(), radius(), {"name": "rvo", "loop": True}, k))
         return out
     if family == "stopper":
-        t = rng.uniform(0.4, 0.6) * dist
+        # it stands before the robot can be there: 1.2-1.8 k aside at 0.8 k_v (at most
+        # 2.25 s), on the line 55 % of the way, at least 2.5 k from the start (2.5 s at the
+        # robot's top pace) and 1.4 k short of the goal
+        reach = 1.4 * k + goal_radius
+        t = min(max(0.55 * dist, 2.5 * k), dist - reach)
         stop = start + t * u
         side = 1.0 if rng.random() < 0.5 else -1.0
-        begin = _clip(stop + side * rng.uniform(2.0, 3.0) * k * n_vec, size, k)
-        first = agent(0, begin, [stop], 0.5 * pace, 0.25 * k, {"name": "dash"}, k)
+        begin = _clip(stop + side * rng.uniform(1.2, 1.8) * k * n_vec, size, k)
+        first = agent(0, begin, [stop], 0.8 * pace, 0.25 * k, {"name": "dash"}, k)
         first["goal_threshold"] = round(0.05 * k, 4)
         return [first, *wanderers(2, 1, "rvo", arena)]
     raise ValueError(f"unknown dynamic family {family!r}")
@@ -395,10 +402,10 @@ def make_world(robot: str, family: str, split: str, index: int) -> dict[str, Any
         raise ValueError(f"{robot} {family} {seed}: too few solvable pairs")
     pace = profile.rated_speed
     pairs = [WorldPair(s.start, s.goal, length,
-                       tuple(agents_for(family, s, world, k, pace, rng)
+                       tuple(agents_for(family, s, world, k, pace, profile.goal_radius, rng)
                              if family in DYNAMIC else ()))
              for s, length in drawn]  # fmt: skip
-    config = {
+    config: dict[str, Any] = {
         "world": {"height": size, "width": size,
                   "step_time": setup.step_time, "collision_mode": "unobstructed_obstacles"},
         "robot": [robot_block(profile, setup)],
@@ -409,7 +416,8 @@ def make_world(robot: str, family: str, split: str, index: int) -> dict[str, Any
     config["robot"][0]["goal"] = [round(first.goal[0], 4), round(first.goal[1], 4), 0.0]
     meta = {"robot": robot, "family": family, "kind": "dynamic" if family in DYNAMIC
             else "static", "split": split, "seed": seed}  # fmt: skip
-    return plain(world_document(config, meta, pairs))
+    document: dict[str, Any] = plain(world_document(config, meta, pairs))
+    return document
 
 
 def plain(value: Any) -> Any:
