@@ -11,7 +11,8 @@ IR-SIM's draws, lidar noise and wandering goals, from the same N), by the baseli
 plan the deployment's; each seed of ``--baseline-seeds``) and by a pure pursuit of the
 seed-1 planner's plan (``--pursuit``). Progress on stderr; the tables (Markdown) on stdout
 and in ``OUT/tables.md``, every episode in ``OUT/episodes.json``. ``--set KEY=VALUE``
-changes the deployment as ``mentor-bench --set`` does (settings tried in E097/E098).
+changes the deployment as ``mentor-bench --set`` does (settings tried in E097);
+``--fading N`` lets the planners' scan map forget what moved (E098).
 """
 
 from __future__ import annotations
@@ -119,6 +120,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--pursuit", action=argparse.BooleanOptionalAction, default=True)
     p.add_argument("--kinds", default="static,dynamic")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    p.add_argument("--fading", type=int, default=None,
+                   help="the scan map forgets what appeared after N decisions (E098)")
     p.add_argument("--limit", type=float, default=50.0)
     p.add_argument("--out", type=Path, required=True)
     args = p.parse_args(argv)
@@ -132,8 +135,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     size = worlds[0].size
     deployment = load_deployment("shipped", args.robot, args.set)[0]
-    runs = [(genome_driver(planner_path(args.robot, s), args.robot, size, deployment), s)
-            for s in seeds]  # fmt: skip
+    runs = [(genome_driver(planner_path(args.robot, s), args.robot, size, deployment,
+                           fading=args.fading), s) for s in seeds]  # fmt: skip
     names = [b for b in args.baselines.split(",") if b]
     runs += [(baseline_driver(b, args.robot, size, deployment), s)
              for b in names for s in base_seeds]  # fmt: skip
@@ -146,6 +149,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     (args.out / "tables.md").write_text(text)
     (args.out / "episodes.json").write_text(json.dumps(
         {"robot": args.robot, "split": args.split, "set": args.set, "limit": args.limit,
+         "fading": args.fading,
          "episodes": as_rows(results)}, indent=0, default=lambda v: None
         if isinstance(v, float) and math.isnan(v) else v))  # fmt: skip
     print(text)

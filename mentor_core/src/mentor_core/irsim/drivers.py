@@ -44,6 +44,7 @@ from mentor_core.controller.deployment import Deployment
 from mentor_core.controller.pipeline import DecisionChain
 from mentor_core.controller.stage import Stage
 from mentor_core.errors import ConfigError
+from mentor_core.navigation.fading_scan_map import FadingScanGuide
 from mentor_core.navigation.guide import GuideConfig
 from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.guided_planner import ScanGuidedPlanner
@@ -121,16 +122,24 @@ class MappedPlanner:
 
 def genome_driver(
     path: str | Path, robot: str, size: float, deployment: Deployment | None = None,
-    name: str = "",
+    name: str = "", fading: int | None = None,
 ) -> DriverSpec:  # fmt: skip
     """The genome in ``path`` on ``robot`` as the planner node deploys it (module
-    docstring; ``deployment`` None: as trained). The errors of ``deployed_genome``."""
+    docstring; ``deployment`` None: as trained). ``fading``: the scan map forgets what
+    appeared in space seen free after that many decisions without a new hit
+    (:class:`~mentor_core.navigation.fading_scan_map.FadingScanMap`, experiment E098; not
+    a setting of the planner node). The errors of ``deployed_genome``."""
     genome, deployed = deployed_genome(path, robot, deployment)
     guide = deployed.guide
 
     def make(scenario: Scenario) -> Driver:
         planner = GenomePlanner(genome, deployed.profile, str(path), stages=deployed.stages)
-        return planner if guide is None else ScanGuidedPlanner(planner, guide, size)
+        if guide is None:
+            return planner
+        guided = ScanGuidedPlanner(planner, guide, size)
+        if fading is not None:
+            guided.scan = FadingScanGuide(size, guide, (0.0, 0.0), fading)
+        return guided
 
     make(Scenario(World(size), (size / 2, size / 2, 0.0), (size / 2, size / 2)))  # checks
     return DriverSpec(name or Path(path).stem, "evolved", deployed.profile, make)
