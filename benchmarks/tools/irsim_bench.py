@@ -12,7 +12,9 @@ plan the deployment's; each seed of ``--baseline-seeds``) and by a pure pursuit 
 seed-1 planner's plan (``--pursuit``). Progress on stderr; the tables (Markdown) on stdout
 and in ``OUT/tables.md``, every episode in ``OUT/episodes.json``. ``--set KEY=VALUE``
 changes the deployment as ``mentor-bench --set`` does (settings tried in E097);
-``--fading N`` lets the planners' scan map forget what moved (E098).
+``--fading N`` lets the planners' scan map forget what moved (E098). ``--families`` runs some
+families only, and ``--replace DIR`` puts their episodes in place of those of an earlier run
+(E096: the stopper worlds drawn again).
 """
 
 from __future__ import annotations
@@ -60,6 +62,12 @@ def run_all(worlds: list[IrsimWorld], runs: list[tuple[DriverSpec, int]],
                   f"{took:.0f} s, about {took / done * (total - done):.0f} s left",
                   file=sys.stderr, flush=True)  # fmt: skip
     return out
+
+
+def episode(row: dict) -> EpisodeResult:
+    """An episode of an earlier run's ``episodes.json``."""
+    speed = row["agent_speed"]
+    return EpisodeResult(**{**row, "agent_speed": math.nan if speed is None else speed})
 
 
 def label(result: EpisodeResult) -> str:
@@ -119,6 +127,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--baseline-seeds", default="1,2,3")
     p.add_argument("--pursuit", action=argparse.BooleanOptionalAction, default=True)
     p.add_argument("--kinds", default="static,dynamic")
+    p.add_argument("--families", default="", help="only these families (default: all)")
+    p.add_argument("--replace", type=Path, default=None,
+                   help="an earlier run's folder: its episodes, but those of the worlds run "
+                        "now, join this run's in the tables")  # fmt: skip
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--fading", type=int, default=None,
                    help="the scan map forgets what appeared after N decisions (E098)")
@@ -129,7 +141,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     base_seeds = [int(s) for s in args.baseline_seeds.split(",") if s]
     kinds = args.kinds.split(",")
     paths = sorted((WORLDS / args.split).glob(f"{args.robot}-*.yaml"))
-    worlds = [w for w in (load_world(p, args.robot) for p in paths) if w.kind in kinds]
+    every = [load_world(p, args.robot) for p in paths]
+    families = [f for f in args.families.split(",") if f]
+    worlds = [w for w in every if w.kind in kinds and (not families or w.family in families)]
     if not worlds:
         print(f"irsim_bench: no {args.robot} worlds of {args.split}", file=sys.stderr)
         return 2
@@ -144,7 +158,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         runs.append((pursuit_driver(planner_path(args.robot, seeds[0]), args.robot, size,
                                     deployment), seeds[0]))  # fmt: skip
     results = run_all(worlds, runs, args.limit)
-    text = tables(results, {w.name: w for w in worlds}, args.robot)
+    if args.replace is not None:
+        rerun = {w.name for w in worlds}
+        earlier = json.loads((args.replace / "episodes.json").read_text())["episodes"]
+        results = [episode(e) for e in earlier if e["world"] not in rerun] + results
+    text = tables(results, {w.name: w for w in every}, args.robot)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "tables.md").write_text(text)
     (args.out / "episodes.json").write_text(json.dumps(

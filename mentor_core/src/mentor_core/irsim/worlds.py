@@ -21,8 +21,9 @@ speeds by the robot's top pace (``k_v = rated_speed``: the UGV's 1 m/s, the Swar
 - ``crossing``: 10 agents in two flows across the robot's way, back and forth (RVO);
 - ``corridor``: a corridor 2.6 k wide, 4 agents walking towards the robot along it;
 - ``crowd``: 15 agents (social force) wandering about the start-goal line;
-- ``stopper``: one agent walks onto the start-goal line ahead of the robot (there before the
-  robot can be) and stays there, and 2 wander.
+- ``stopper``: one agent walks onto the start-goal line ahead of the robot and stays there
+  (there in half the time the robot takes at its shipped top pace; standing there from the
+  start where it cannot be), and 2 wander.
 
 **Pairs** as the benchmark draws them (:func:`mentor_core.navigation.pairs.solvable_pairs`:
 the trainer's clearance, the unseen test's distances, solvable for the body's disc within
@@ -49,6 +50,7 @@ from mentor_core.benchmark.suite import (
     PAPER_LIMIT,
     SPLITS,
     reference_profile,
+    shipped_limits,
     top_pace,
 )
 from mentor_core.irsim.world_file import WorldPair, world_document
@@ -263,10 +265,13 @@ def agent(i: int, xy: FloatArray, goals: list[FloatArray], speed: float, radius:
             "behavior": beh}  # fmt: skip
 
 
-def agents_for(family: str, pair: Scenario, world: World, k: float, pace: float,
-               goal_radius: float, rng: np.random.Generator) -> list[Shape]:  # fmt: skip
+def agents_for(
+    family: str, pair: Scenario, world: World, k: float, pace: float, goal_radius: float,
+    top: float, rng: np.random.Generator,
+) -> list[Shape]:  # fmt: skip
     """The agents of a dynamic family's pair (module docstring), each placed in free space
-    away from the robot's start and goal (``goal_radius`` m: the robot's)."""
+    away from the robot's start and goal (``goal_radius`` m: the robot's; ``top`` m/s: the
+    robot's top pace as its planners are shipped)."""
     size = world.size
     start, goal = np.array(pair.start[:2]), np.array(pair.goal)
     along = goal - start
@@ -338,14 +343,17 @@ def agents_for(family: str, pair: Scenario, world: World, k: float, pace: float,
             out.append(agent(i, a, [b, a], speed(), radius(), {"name": "rvo", "loop": True}, k))
         return out
     if family == "stopper":
-        # it stands before the robot can be there: 1.2-1.8 k aside at 0.8 k_v (at most
-        # 2.25 s), on the line 55 % of the way, at least 2.5 k from the start (2.5 s at the
-        # robot's top pace) and 1.4 k short of the goal
+        # on the line 55 % of the way (at least 2.5 k from the start, 1.4 k short of the
+        # goal), it stands before the robot can be there: it starts 1.2-1.8 k aside, or
+        # nearer, so that at 0.8 k_v it arrives within half the time the robot takes at its
+        # top pace (``top``), or right there, standing, when that is under 0.3 k
         reach = 1.4 * k + goal_radius
         t = min(max(0.55 * dist, 2.5 * k), dist - reach)
         stop = start + t * u
         side = 1.0 if rng.random() < 0.5 else -1.0
-        begin = _clip(stop + side * rng.uniform(1.2, 1.8) * k * n_vec, size, k)
+        aside = min(rng.uniform(1.2, 1.8) * k, 0.8 * pace * 0.5 * t / top)
+        aside = aside if aside >= 0.3 * k else 0.0
+        begin = _clip(stop + side * aside * n_vec, size, k)
         first = agent(0, begin, [stop], 0.8 * pace, 0.25 * k, {"name": "dash"}, k)
         first["goal_threshold"] = round(0.05 * k, 4)
         return [first, *wanderers(2, 1, "rvo", arena)]
@@ -402,7 +410,8 @@ def make_world(robot: str, family: str, split: str, index: int) -> dict[str, Any
         raise ValueError(f"{robot} {family} {seed}: too few solvable pairs")
     pace = profile.rated_speed
     pairs = [WorldPair(s.start, s.goal, length,
-                       tuple(agents_for(family, s, world, k, pace, profile.goal_radius, rng)
+                       tuple(agents_for(family, s, world, k, pace, profile.goal_radius,
+                                        top_pace(shipped_limits(profile)), rng)
                              if family in DYNAMIC else ()))
              for s, length in drawn]  # fmt: skip
     config: dict[str, Any] = {
