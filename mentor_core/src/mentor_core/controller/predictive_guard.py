@@ -3,7 +3,7 @@
 
 Not built in and off in every shipped deployment: a plugin stage
 (``predictive_guard: {plugin: "mentor_core.controller.predictive_guard:PredictiveGuard"}``,
-in place of ``collision_guard``), tried on the IR-SIM worlds of experiments E097 and E098.
+in place of ``collision_guard``), tried on the IR-SIM validation worlds in experiment E097.
 
 At each decision, for each sensor that read something within range now and at the last
 decision, with the robot's heading changed by less than ``turn_limit`` rad in between: the

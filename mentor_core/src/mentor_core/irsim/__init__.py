@@ -17,6 +17,7 @@ Modules, one concept each:
 - :mod:`.worlds`: the seeded generator of the committed worlds (``benchmarks/irsim_worlds``);
 - :mod:`.drivers`: what decides in an episode: a genome as deployed, a baseline, a pursuit;
 - :mod:`.episode`: one start/goal pair driven to its end in IR-SIM;
+- :mod:`.tally`: the scores of episodes, collisions with agents apart;
 - :mod:`.figures`: trajectories drawn from episodes;
 - :mod:`.cli`: the ``mentor-irsim`` command.
 
