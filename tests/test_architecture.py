@@ -21,7 +21,7 @@ LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
 NODE_PACKAGES = ("mentor_sim_node", "mentor_planner_node", "mentor_ros_common", "mentor_bringup")
 WINGS = (
     "evolution", "sim", "objectives", "files", "navigation", "controller", "training", "runtime",
-    "benchmark", "report", "cli",
+    "benchmark", "report", "cli", "irsim",
 )
 
 
