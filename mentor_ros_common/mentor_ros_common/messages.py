@@ -4,6 +4,9 @@ node, no state."""
 
 from __future__ import annotations
 
+import array
+
+import numpy as np
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, Pose, Quaternion
 from nav_msgs.msg import MapMetaData
@@ -34,7 +37,9 @@ def occupancy_grid_msg(
         height=grid.height,
         origin=Pose(position=Point(x=x, y=y, z=0.0), orientation=quaternion_msg(yaw)),
     )
-    return OccupancyGridMsg(header=header, info=info, data=grid.data.reshape(-1).tolist())
+    # an array.array is taken as it is; a list of 4 million cells took 0.3 s to convert
+    data = array.array("b", np.ascontiguousarray(grid.data, dtype=np.int8).tobytes())
+    return OccupancyGridMsg(header=header, info=info, data=data)
 
 
 __all__ = ["occupancy_grid_msg", "quaternion_msg"]

@@ -16,11 +16,11 @@ bad world, genome or argument; needs the extra ``mentor-core[irsim]``.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from mentor_core.atomic import write_json_atomic
 from mentor_core.benchmark.suite import PAPER_LIMIT
 from mentor_core.controller.deployment import load_deployment
 from mentor_core.errors import MentorError, one_line
@@ -111,8 +111,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         for name in dict.fromkeys(r.driver for r in results):
             print(row(name, scores([r for r in results if r.driver == name])))
         if args.out is not None:
-            args.out.write_text(json.dumps({"seed": args.seed, "limit": args.limit,
-                                            "episodes": as_rows(results)}, indent=1))
+            write_json_atomic(args.out, {"seed": args.seed, "limit": args.limit,
+                                         "episodes": as_rows(results)}, indent=1)
         if args.figure is not None:
             from mentor_core.irsim.figures import save_episodes
 
