@@ -89,6 +89,7 @@ def test_a_slow_planner_leaves_the_controller_on_time(
     assert runs[0].collisions == 0
     scan = burger.planner.global_plan.planner.scan
     assert scan.map.growing  # the preset sets no size: the map grows from the first pose
+    assert burger.planner.global_plan._map_sent is not None  # sent from the plan thread
     assert len(scan.plan_seconds) >= 2 and min(scan.plan_seconds) >= 0.8
     periods = (burger.sim.time - t0) / burger.planner.control_period
     assert burger.planner.decisions - decided >= 0.9 * periods

@@ -55,10 +55,12 @@ from mentor_core import (
     GuidedPlanner,
     MentorError,
     PlannerFrames,
+    PlanResult,
     ScanGuidedPlanner,
     ThreadPlans,
     bounds_in,
     guide_config,
+    warm_up_scan_map,
 )
 from mentor_planner_node import conversions
 from mentor_ros_common.messages import occupancy_grid_msg
@@ -127,8 +129,12 @@ class GlobalPlan:
                 raise PlanSetupError(f"scan_map_origin: {origin} is not [x, y] in m")
             # deciding continuously, plans are made beside the decisions (lockstep: at once,
             # as the benchmark makes them, so that the node equals it)
+            warm_up_scan_map(self._config)  # the kernels now, not at the first decision
+            # deciding on the timer, the map goes out from the plan thread after each plan,
+            # so that building and sending a large one never holds up a decision
+            self._continuous = continuous
             self._beside = dict(
-                worker=ThreadPlans() if continuous else None,
+                worker=ThreadPlans(on_done=self._plan_done) if continuous else None,
                 replan_every=float(values["plan_period"]) if continuous else 0.0,
                 max_cells=int(values["scan_map_max_cells"]),
             )
@@ -248,9 +254,18 @@ class GlobalPlan:
         if new_plan:
             self._published = guide.revision
             self._path_pub.publish(conversions.path_msg(guide.path, now.to_msg(), frame))
-        if isinstance(self.planner, ScanGuidedPlanner):
+        if isinstance(self.planner, ScanGuidedPlanner) and not self._continuous:
             self._publish_scan_map(self.planner, now.nanoseconds, now.to_msg(), frame, new_plan)
         return decision
+
+    def _plan_done(self, result: PlanResult) -> None:
+        """On the plan thread, after each plan: the scan map on ``scan_map`` (at most every
+        :data:`MAP_EVERY_S` s, as :meth:`_publish_scan_map`)."""
+        planner = self.planner
+        if isinstance(planner, ScanGuidedPlanner) and result.owner is planner.scan:
+            now = self._node.get_clock().now()
+            self._publish_scan_map(planner, now.nanoseconds, now.to_msg(),
+                                   self._frames.odom_frame, False)  # fmt: skip
 
     def _publish_scan_map(
         self, planner: ScanGuidedPlanner, now_ns: int, stamp: Time, frame: str, new_plan: bool
@@ -263,8 +278,9 @@ class GlobalPlan:
         if not (new_plan or due):
             return
         self._map_sent = now_ns
-        grid = planner.scan.map.grid()
-        self._map_pub.publish(occupancy_grid_msg(grid, stamp, frame))
+        grid = planner.scan.map.grid()  # None while another thread grows it
+        if grid is not None:
+            self._map_pub.publish(occupancy_grid_msg(grid, stamp, frame))
 
     def _on_map(self, msg: OccupancyGridMsg) -> None:
         try:

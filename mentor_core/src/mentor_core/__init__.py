@@ -176,6 +176,7 @@ if TYPE_CHECKING:
     from mentor_core.navigation.plan_worker import PlanResult as PlanResult
     from mentor_core.navigation.plan_worker import ThreadPlans as ThreadPlans
     from mentor_core.navigation.scan_map import scan_guide_config as scan_guide_config
+    from mentor_core.navigation.scan_map import warm_up_scan_map as warm_up_scan_map
     from mentor_core.objectives.complexity import flops_ratio as flops_ratio
     from mentor_core.objectives.experience import experience_gain as experience_gain
 

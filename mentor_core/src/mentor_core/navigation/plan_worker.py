@@ -179,4 +179,7 @@ class ThreadPlans:
                 if result is not None:
                     self._done = result
             if result is not None and self._on_done is not None:
-                self._on_done(result)
+                try:
+                    self._on_done(result)
+                except Exception as err:  # the caller's hook must not end planning either
+                    self.error = f"{type(err).__name__}: {err}"

@@ -100,9 +100,10 @@ class ScanMap:
     @property
     def data(self) -> NDArray[np.int8]:
         """``(n, n)`` cell values: -1 unknown, 0 free, 100 occupied (module docstring)."""
-        out = np.full(self.hits.shape, UNKNOWN, dtype=np.int8)
-        out[self.misses > 0] = FREE
-        out[self.occupied] = OCCUPIED
+        misses, occupied = self.misses, self.occupied  # each read once: see grid()
+        out = np.full(misses.shape, UNKNOWN, dtype=np.int8)
+        out[misses > 0] = FREE
+        out[occupied] = OCCUPIED
         return out
 
     def cover(self, xmin: float, ymin: float, xmax: float, ymax: float,
@@ -182,9 +183,17 @@ class ScanMap:
         rows, cols = became // n_cols, became % n_cols
         return np.stack([(cols + 0.5), (rows + 0.5)], axis=1) * self.resolution + self.origin
 
-    def grid(self) -> OccupancyGrid:
-        """The map as an :class:`OccupancyGrid` (its origin the map's)."""
-        return OccupancyGrid(self.resolution, (*self.origin, 0.0), self.data)
+    def grid(self) -> OccupancyGrid | None:
+        """The map as an :class:`OccupancyGrid` (its origin the map's); None for a map with
+        no cells yet, or when read on another thread while the map grows (its arrays and
+        origin then disagree for a moment)."""
+        origin, misses, occupied = self.origin, self.misses, self.occupied
+        if not misses.size or misses.shape != occupied.shape or origin != self.origin:
+            return None
+        data = np.full(misses.shape, UNKNOWN, dtype=np.int8)
+        data[misses > 0] = FREE
+        data[occupied] = OCCUPIED
+        return OccupancyGrid(self.resolution, (*origin, 0.0), data)
 
     def planning_grid(self) -> OccupancyGrid:
         """What a plan with unknown space free needs of the map, in a tenth of the time of
@@ -393,6 +402,13 @@ class ScanGuide:
         located = np.repeat(beam_arcs | ~profile.beamed, profile.beam_rays)  # sensor-major
         return self.target(rays.reshape(-1, 3)[distinct], per_ray[distinct],
                            profile.sensor_range, p[0, :2], goal, located[distinct])  # fmt: skip
+
+
+def warm_up_scan_map(config: GuideConfig) -> None:
+    """Compile (or load from numba's cache) the scan map's and the plan's kernels now, on a
+    small map, so that a robot's first decision does not wait seconds for them."""
+    guide = ScanGuide(2.0, config)
+    guide.target(np.array([[0.5, 1.0, 0.0]]), np.array([1.0]), 1.5, (0.5, 1.0), (1.8, 1.0))
 
 
 #: the scan map's finest cell, m: finer cells gained the Swarm-Robot nothing measurable
