@@ -270,13 +270,3 @@ def test_a_star_costs_what_dijkstra_on_the_whole_graph_costs(cost: float) -> Non
             assert got == pytest.approx(want, rel=1e-12), trial
             assert (clearance[rows, cols] >= need).all()
 
-
-def test_the_linear_distance_transform_is_scipys() -> None:
-    # free_for reads the whole map through it
-    from mentor_core.navigation.distance_field import distances
-
-    rng = np.random.default_rng(5)
-    for shape, share in (((1, 1), 0.0), ((5, 7), 0.2), ((60, 45), 0.03), ((80, 80), 0.0005)):
-        blocked = np.pad(rng.random(shape) < share, 1, constant_values=True)
-        np.testing.assert_array_equal(distances(blocked),
-                                      ndimage.distance_transform_edt(~blocked))  # fmt: skip

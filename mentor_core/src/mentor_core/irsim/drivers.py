@@ -46,7 +46,6 @@ from mentor_core.controller.stage import Stage
 from mentor_core.errors import ConfigError
 from mentor_core.navigation.fading_scan_map import FadingScanGuide
 from mentor_core.navigation.guide import GuideConfig
-from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.guided_planner import ScanGuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner, deployed_genome
 from mentor_core.sim.episode import Policy
@@ -104,20 +103,9 @@ class PolicyPlanner:
         )
         return float(decision.dtheta[0]), float(decision.ds[0])
 
-
-class MappedPlanner:
-    """A :class:`PolicyPlanner` steering to the carrot of a plan on its own scan map, as
-    :class:`~mentor_core.runtime.guided_planner.ScanGuidedPlanner` steers a genome."""
-
-    def __init__(self, planner: PolicyPlanner, config: GuideConfig, size: float) -> None:
-        self.planner = planner
-        self.scan = ScanGuide(size, config)
-
-    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
-        """``(dtheta, ds)`` (rad, m) after adding ``ranges`` to the map, towards the carrot."""
-        p = np.asarray(pose, dtype=np.float64).reshape(3)
-        aim = self.scan.read(p, ranges, goal, self.planner.profile)
-        return self.planner.decide(ranges, p, aim)
+    def reset(self) -> None:
+        """Start blank: every stage of the chain forgets (:meth:`GenomePlanner.reset`)."""
+        self.chain.reset()
 
 
 def genome_driver(
@@ -187,12 +175,13 @@ def _policy_spec(
     name: str, kind: Kind, maker: PolicyMaker, profile: RobotProfile,
     stages: tuple[Stage, ...], guide: GuideConfig | None, size: float,
 ) -> DriverSpec:  # fmt: skip
-    """A spec whose drivers are ``maker``'s policy in a :class:`PolicyPlanner` (on a
-    :class:`MappedPlanner` with a ``guide``)."""
+    """A spec whose drivers are ``maker``'s policy in a :class:`PolicyPlanner` (steering on
+    its scan map, as :class:`~mentor_core.runtime.guided_planner.ScanGuidedPlanner` steers a
+    genome, with a ``guide``)."""
 
     def make(scenario: Scenario) -> Driver:
         planner = PolicyPlanner(maker([scenario], profile), profile, stages)
-        return planner if guide is None else MappedPlanner(planner, guide, size)
+        return planner if guide is None else ScanGuidedPlanner(planner, guide, size)
 
     return DriverSpec(name, kind, profile, make)
 
@@ -201,7 +190,6 @@ __all__ = [
     "BASELINES",
     "Driver",
     "DriverSpec",
-    "MappedPlanner",
     "PolicyPlanner",
     "baseline_driver",
     "genome_driver",

@@ -47,9 +47,9 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage
 
 from mentor_core.navigation import grid_search
-from mentor_core.navigation.distance_field import distances
 from mentor_core.navigation.grid import LETHAL, OccupancyGrid
 
 FloatArray = NDArray[np.float64]
@@ -118,7 +118,8 @@ class GridPlanner:
     def free_for(self, radius: float) -> BoolArray:
         """``(height, width)``: cells a disc of ``radius`` m may stand on anywhere (the whole
         map at once: for inspection; the search reads cells as it goes)."""
-        clearance = distances(self._blocked)[1:-1, 1:-1] * self.grid.resolution
+        clearance = ndimage.distance_transform_edt(~self._blocked)[1:-1, 1:-1]
+        clearance = clearance * self.grid.resolution
         return np.asarray(clearance >= self._need(radius))
 
     def _cell(self, xy: ArrayLike) -> tuple[int, int, bool] | None:
@@ -131,7 +132,8 @@ class GridPlanner:
         inside = 0 <= row < h and 0 <= col < w
         if inside and self._clearance(row, col) >= need:
             return row, col, True
-        # outside the grid: from the nearest border cell, checked below
+        # the nearest traversable cell (from the nearest border cell for a point outside the
+        # grid), within the tolerance checked below
         r_in, c_in = min(max(row, 0), h - 1), min(max(col, 0), w - 1)
         reach = math.ceil((self.tolerance + r) / r) + 2
         found = grid_search.nearest(self._field, need, r_in, c_in, reach)

@@ -152,13 +152,14 @@ class PathGuide:
     """
 
     def __init__(
-        self, config: GuideConfig, planner: GridPlanner | None = None, plans: bool = True
+        self, config: GuideConfig, planner: GridPlanner | None = None,
+        plans_itself: bool = True,
     ) -> None:
         self.config = config
         self.planner = planner
         #: it plans itself (at a new goal, map or straying); False: plans come from
         #: :meth:`adopt` (made elsewhere, :mod:`~mentor_core.navigation.plan_worker`)
-        self.plans = plans
+        self.plans_itself = plans_itself
         #: the last :meth:`target` found the robot off its path (beyond ``replan_distance``)
         self.strayed = False
         #: the path followed ``(k, 2)`` (m, ``map``), None without one
@@ -202,7 +203,7 @@ class PathGuide:
             self.revision += 1
 
     def _plan(self, xy: XY, goal: XY) -> None:
-        if self.planner is None or self._failed == goal or not self.plans:
+        if self.planner is None or self._failed == goal or not self.plans_itself:
             return
         path = self.planner.plan(xy, goal)
         self._set(path)
@@ -230,7 +231,7 @@ class PathGuide:
         )
         off = math.dist(here, point_at(self.path, s, self._lengths))
         self.strayed = off > self.config.replan_distance
-        if self.strayed and self.plans and self.planner is not None and not self._given:
+        if self.strayed and self.plans_itself and self.planner is not None and not self._given:
             path = self.planner.plan(here, final)  # none from here: keep the old one
             if path is not None:
                 self._set(path)

@@ -100,11 +100,7 @@ class ScanMap:
     @property
     def data(self) -> NDArray[np.int8]:
         """``(n, n)`` cell values: -1 unknown, 0 free, 100 occupied (module docstring)."""
-        misses, occupied = self.misses, self.occupied  # each read once: see grid()
-        out = np.full(misses.shape, UNKNOWN, dtype=np.int8)
-        out[misses > 0] = FREE
-        out[occupied] = OCCUPIED
-        return out
+        return _values(self.misses, self.occupied)
 
     def cover(self, xmin: float, ymin: float, xmax: float, ymax: float,
               centre: tuple[float, float] | None = None) -> None:  # fmt: skip
@@ -190,10 +186,7 @@ class ScanMap:
         origin, misses, occupied = self.origin, self.misses, self.occupied
         if not misses.size or misses.shape != occupied.shape or origin != self.origin:
             return None
-        data = np.full(misses.shape, UNKNOWN, dtype=np.int8)
-        data[misses > 0] = FREE
-        data[occupied] = OCCUPIED
-        return OccupancyGrid(self.resolution, (*origin, 0.0), data)
+        return OccupancyGrid(self.resolution, (*origin, 0.0), _values(misses, occupied))
 
     def planning_grid(self) -> OccupancyGrid:
         """What a plan with unknown space free needs of the map, in a tenth of the time of
@@ -221,6 +214,14 @@ class ScanMap:
         r0, c0 = max(0, math.floor(p[1] - r)), max(0, math.floor(p[0] - r))
         window = np.s_[r0 : math.floor(p[1] + r) + 2, c0 : math.floor(p[0] + r) + 2]
         return disc_touches(self.occupied[window], p - (c0, r0), r)
+
+
+def _values(misses: NDArray[np.uint16], occupied: NDArray[np.bool_]) -> NDArray[np.int8]:
+    """Cell values of a map's counts: -1 unknown, 0 free (a ray passed), 100 occupied."""
+    out = np.full(misses.shape, UNKNOWN, dtype=np.int8)
+    out[misses > 0] = FREE
+    out[occupied] = OCCUPIED
+    return out
 
 
 #: the step (cells) a growing scan map grows by, and the lattice its corners keep
@@ -316,7 +317,7 @@ class ScanGuide:
         if worker is None and config.plan_delay > 0:
             worker = DelayedPlans(config.plan_delay)
         self.worker = worker
-        self.guide = PathGuide(config, plans=worker is None)
+        self.guide = PathGuide(config, plans_itself=worker is None)
         if worker is None and self.map.hits.size:  # a growing map: at its first cells
             self.guide.set_map(self._snapshot())
         self.plans = 0  # maps planned on, the first included
@@ -349,11 +350,16 @@ class ScanGuide:
             self._cover(xy, goal)
         if self.worker is not None:
             return self._beside(new, xy, goal)
-        path = self.guide.path
-        if new.size and (path is None or _near(new, path, self.guide.config)):
+        if self._blocks_path(new):
             self.guide.set_map(self._snapshot())
             self.plans += 1
         return self.guide.target(xy, goal)
+
+    def _blocks_path(self, new: FloatArray) -> bool:
+        """Whether newly occupied cells ``new`` ask for a new plan: one lies near the path,
+        or there is no path (and the map changed)."""
+        path = self.guide.path
+        return bool(new.size) and (path is None or _near(new, path, self.guide.config))
 
     def _beside(self, new: FloatArray, xy: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
         """:meth:`target` with plans made by the worker (class docstring)."""
@@ -365,9 +371,8 @@ class ScanGuide:
             self.plan_seconds.append(done.seconds)
             if done.goal == self._asked[0] == final:
                 self.guide.adopt(done.planner, done.path)
-        path, now = self.guide.path, self._clock()
-        ask = (self._asked is None or self._asked[0] != final
-               or (new.size > 0 and (path is None or _near(new, path, self.guide.config)))
+        now = self._clock()
+        ask = (self._asked is None or self._asked[0] != final or self._blocks_path(new)
                or self.guide.strayed)  # fmt: skip
         if not ask and self.replan_every > 0.0 and not self.worker.busy:
             ask = self._asked is not None and now - self._asked[1] >= self.replan_every

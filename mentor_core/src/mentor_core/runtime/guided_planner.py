@@ -19,6 +19,7 @@ float32), so an in-process episode plans on exactly what the planner node receiv
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -28,6 +29,22 @@ from mentor_core.navigation.guide import GuideConfig, PathGuide
 from mentor_core.navigation.plan_worker import PlanWorker
 from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.sim.robots import RobotProfile
+
+
+class Controller(Protocol):
+    """What steers along a plan: :class:`~mentor_core.runtime.planner.GenomePlanner`, or a
+    hand-written policy in the same decision chain (the IR-SIM baselines)."""
+
+    @property
+    def profile(self) -> RobotProfile:
+        """The robot it decides for (its sensors)."""
+
+    def reset(self) -> None:
+        """Start blank (a new goal or episode)."""
+
+    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+        """``(dtheta, ds)`` (rad, m) for readings, pose and goal."""
 
 
 def _xy(goal: ArrayLike) -> str:
@@ -96,7 +113,7 @@ class ScanGuidedPlanner:
     to ``max_cells`` cells (then rolls); unknown space planned as free.
 
     Args:
-        planner: the genome's planner (network, profile, limits).
+        planner: the genome's planner (network, profile, limits), or any :class:`Controller`.
         config: the guide's settings (:func:`mentor_core.navigation.guide.guide_config`).
         worker: where plans are made (None: at once, as the benchmark makes them;
             :class:`~mentor_core.navigation.plan_worker.ThreadPlans`: beside the decisions),
@@ -105,7 +122,7 @@ class ScanGuidedPlanner:
     """
 
     def __init__(
-        self, planner: GenomePlanner, config: GuideConfig, size: float | None,
+        self, planner: Controller, config: GuideConfig, size: float | None,
         origin: tuple[float, float] = (0.0, 0.0), worker: PlanWorker | None = None,
         replan_every: float = 0.0, max_cells: int = MAX_CELLS,
     ) -> None:  # fmt: skip
