@@ -8,7 +8,9 @@ distance, trajectory), scores and settings, and the suite (pairs, limits); a con
 ``seconds`` (wall time) is not compared. ``--strip PREFIX`` drops a prefix from the first
 file's names (``mentor-bench --deployed`` named the planners it ran as deployed
 ``mapped-guard-shim-<label>`` until the deployments of experiment E086). Prints one line per
-contender and exits 1 when anything differs.
+contender and exits 1 when anything differs; where a contender's results differ, how many of
+its episodes still end the same way (reached, collided) and how many follow the same
+trajectory (experiment E092).
 """
 
 from __future__ import annotations
@@ -42,7 +44,14 @@ def compare(before: dict[str, Any], after: dict[str, Any], strip: str = "") -> l
             continue
         faults = [k for k in ("kind", "results", "scores", "settings", "scan_map")
                   if a[name].get(k) != b[name].get(k)]  # fmt: skip
-        lines.append(f"DIFFERS {name}: {', '.join(faults)}" if faults else f"same {name}")
+        line = f"DIFFERS {name}: {', '.join(faults)}" if faults else f"same {name}"
+        ra, rb = a[name].get("results", []), b[name].get("results", [])
+        if "results" in faults and len(ra) == len(rb):
+            ends = sum((x["reached"], x["collided"]) == (y["reached"], y["collided"])
+                       for x, y in zip(ra, rb, strict=True))  # fmt: skip
+            paths = sum(x["trajectory"] == y["trajectory"] for x, y in zip(ra, rb, strict=True))
+            line += f" ({ends} of {len(ra)} episodes end the same way, {paths} the same path)"
+        lines.append(line)
     return lines
 
 
