@@ -62,3 +62,22 @@ def test_a_stream_is_stale_after_a_few_of_its_own_intervals() -> None:
     for k in range(9):
         slow.arrived(k * 1000 * MS)  # 1 Hz: the ceiling
     assert slow.limit_ns() == ceiling
+
+
+def test_a_simulator_faster_than_real_time_is_judged_by_its_stamps() -> None:
+    ceiling = 1500 * MS
+    lockstep = StreamFreshness(ceiling)
+    for k in range(9):  # 0.5 s of sim time apart, answered within 12 ms
+        lockstep.arrived(k * 12 * MS, stamp_ns=k * 500 * MS)
+    assert lockstep.limit_ns() == 1250 * MS
+    # a machine that stalls for 0.3 s (a busy core) stops no robot that waits for its answer
+    assert lockstep.stale_for(8 * 12 * MS + 300 * MS) is None
+    assert lockstep.stale_for(8 * 12 * MS + 1251 * MS) == 1251 * MS
+    slower = StreamFreshness(ceiling)
+    for k in range(9):  # a simulator at half real time: judged by its arrivals
+        slower.arrived(k * 400 * MS, stamp_ns=k * 200 * MS)
+    assert slower.limit_ns() == 1000 * MS
+    restarted = StreamFreshness(ceiling)
+    for k in range(9):  # 100 Hz, its stamps jumping back to 0 halfway (a restart)
+        restarted.arrived(k * 10 * MS, stamp_ns=(k % 5) * 10 * MS)
+    assert restarted.limit_ns() == FLOOR_NS

@@ -126,7 +126,7 @@ class DecisionGate:
         self._last_scan_stamp = stamp
         self._scan = (stamp, np.asarray(ranges, dtype=np.float64).copy())
         if received_ns is not None:
-            self._streams["scan"].arrived(received_ns)
+            self._streams["scan"].arrived(received_ns, stamp)
 
     def refuse_scan(self, received_ns: int | None = None) -> None:
         """A scan came that the planner could not read: nothing is decided on an older one
@@ -139,7 +139,7 @@ class DecisionGate:
         """An odometry pose, stamped ``stamp_ns``, handled at node time ``received_ns``."""
         self._odometry.add(int(stamp_ns), (float(pose[0]), float(pose[1]), float(pose[2])))
         if received_ns is not None:
-            self._streams["odometry"].arrived(received_ns)
+            self._streams["odometry"].arrived(received_ns, int(stamp_ns))
 
     @property
     def goal(self) -> tuple[float, float] | None:

@@ -7,6 +7,12 @@ than ``floor`` (executor jitter) and never more than ``ceiling`` (the planner's
 ``stale_timeout``); until two messages have come, ``ceiling``. A 5 Hz lidar is then stale
 after 0.5 s, 30 Hz odometry after 0.2 s (the floor). Times are the node's steady clock (ns),
 so a stream is stale also when sim time stops.
+
+A stream's interval is the longer of the one between its arrivals and the one between its
+stamps: a simulator faster than real time (lockstep, answering as fast as the planner decides)
+sends scans 0.5 s of sim time apart within a few ms; judged by its arrivals alone, any hiccup
+of the machine (a busy core, a collection) would stop the robot, though the simulated robot
+waits for its answer. A simulator slower than real time is judged by its arrivals.
 """
 
 from __future__ import annotations
@@ -37,23 +43,30 @@ class StreamFreshness:
             raise ValueError(f"ceiling must be positive, got {ceiling_ns} ns")
         self.ceiling_ns = int(ceiling_ns)
         self.floor_ns = min(max(0, int(floor_ns)), self.ceiling_ns)
-        self._arrivals: deque[int] = deque(maxlen=KEPT)
+        # (node time, stamp or None) of the latest messages
+        self._arrivals: deque[tuple[int, int | None]] = deque(maxlen=KEPT)
 
     @property
     def last_ns(self) -> int | None:
         """Node time of the latest message, or None before any."""
-        return self._arrivals[-1] if self._arrivals else None
+        return self._arrivals[-1][0] if self._arrivals else None
 
-    def arrived(self, now_ns: int) -> None:
-        """A message came at node time ``now_ns``."""
-        self._arrivals.append(int(now_ns))
+    def arrived(self, now_ns: int, stamp_ns: int | None = None) -> None:
+        """A message came at node time ``now_ns``, stamped ``stamp_ns`` (its header's time,
+        ns; None: unknown)."""
+        self._arrivals.append((int(now_ns), None if stamp_ns is None else int(stamp_ns)))
 
     def limit_ns(self) -> int:
         """ns of quiet after which the stream is stale (module docstring)."""
         if len(self._arrivals) < 2:
             return self.ceiling_ns
-        times = list(self._arrivals)
-        typical = statistics.median(b - a for a, b in itertools.pairwise(times))
+        pairs = list(itertools.pairwise(self._arrivals))
+        typical = statistics.median(b[0] - a[0] for a, b in pairs)
+        # stamps that jump back (a simulator that restarts) say nothing of the pace
+        stamped = [b[1] - a[1] for a, b in pairs
+                   if a[1] is not None and b[1] is not None and b[1] > a[1]]  # fmt: skip
+        if stamped:
+            typical = max(typical, statistics.median(stamped))
         return int(min(self.ceiling_ns, max(self.floor_ns, INTERVALS * typical)))
 
     def stale_for(self, now_ns: int) -> int | None:
