@@ -31,6 +31,7 @@ from mentor_core.sim.robots import RobotProfile, get_profile
 from mentor_core.sim.scan_adapter import (
     LaserScanData,
     LidarMount,
+    MountedScan,
     fields_of_view,
     readings_from_scan,
 )
@@ -209,3 +210,19 @@ def test_a_720_ray_scan_gives_the_simulators_readings(profile: RobotProfile, sha
     assert np.mean(single) >= share
     assert not beam or np.mean(beam) >= 0.99
     assert phantoms == 0
+
+
+def test_a_scans_rays_sit_where_the_lidar_is_and_read_what_it_read() -> None:
+    # four rays of a lidar 0.2 m ahead of the centre, turned 90 deg, on a robot at (1, 2)
+    # facing +y: the lidar sits at (1, 2.2) facing -x
+    scan = LaserScanData(0.0, math.pi / 2, 0.1, 5.0, [1.0, math.inf, -math.inf, math.nan])
+    mount = LidarMount(Transform2D(0.2, 0.0, math.pi / 2))
+    frames, readings = MountedScan(scan, mount).rays((1.0, 2.0, math.pi / 2))
+    np.testing.assert_allclose(frames[:, :2], [[1.0, 2.2]] * 3, atol=1e-12)
+    # headings pi, 3 pi / 2, 2 pi; a return, nothing within reach, one nearer than range_min
+    np.testing.assert_allclose(frames[:, 2], [math.pi, 1.5 * math.pi, 2 * math.pi])
+    np.testing.assert_array_equal(readings, [1.0, math.inf, 0.1])  # NaN: left out
+    # upside down, the ray at angle a faces yaw - a
+    upside = MountedScan(scan, LidarMount(mount.pose, inverted=True))
+    np.testing.assert_allclose(upside.rays((1.0, 2.0, math.pi / 2))[0][:, 2],
+                               [math.pi, math.pi / 2, 0.0], atol=1e-12)  # fmt: skip

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,10 @@ from mentor_core.navigation.scan_map import (
 )
 from mentor_core.runtime.guided_planner import ScanGuidedPlanner
 from mentor_core.runtime.planner import GenomePlanner
+from mentor_core.sim.lidar import LidarSpec, lidar_scan
+from mentor_core.sim.pymunk_world import PymunkWorld
 from mentor_core.sim.robots import get_profile
+from mentor_core.sim.scan_adapter import LaserScanData, LidarMount, MountedScan, readings_from_scan
 from mentor_core.sim.sensors import sensor_frames, sensor_readings
 from mentor_core.sim.world import Scenario, World
 
@@ -248,3 +252,33 @@ def test_a_growing_map_holds_every_ray_and_rolls_at_its_bound() -> None:
         grow.update(np.array([[x, 0.0, np.pi / 2]]), [2.0], 3.5)
     assert grow.hits.size <= 256 * 256 and grow.nbytes <= 256 * 256 * 5
     assert grow.blocks((27.0, 2.0), 0.1) and not grow.blocks((0.0, 2.0), 0.1)
+
+
+def test_a_lidars_whole_scan_maps_an_obstacle_between_the_sensors() -> None:
+    """With ``whole_scan`` and the scan the readings were read off, the map holds what every
+    lidar ray saw: a post 2 m to the UGV's left, between its sensors at 67.5 and 112.5 deg,
+    whose rays pass 0.6 m wide of it, is on the map, and the plan to a goal beyond it goes
+    round it. Without ``whole_scan`` (or without the scan) only the sensors' readings count."""
+    post = World(12.0, np.array([[5.8, 7.8, 6.2, 8.2]]))
+    pose, goal = np.array([6.0, 6.0, 0.0]), (6.0, 10.0)
+    physics = PymunkWorld(post, UGV)
+    physics.add_robot("r", tuple(pose))
+    spec = LidarSpec(360, range_max=UGV.sensor_range)
+    data = LaserScanData(spec.angle_min, spec.angle_increment, spec.range_min, spec.range_max,
+                         lidar_scan(physics, "r", spec))  # fmt: skip
+    scan = MountedScan(data, LidarMount())
+    readings = readings_from_scan(data, LidarMount(), UGV).readings
+    assert np.isinf(readings).all()  # no sensor sees it
+    genome = GenomePlanner.load(REGRESSION / "ugv_reference_genome.json", "ugv")
+    config = scan_guide_config(UGV)
+    sensors = ScanGuidedPlanner(genome, config, 12.0)
+    lidar = ScanGuidedPlanner(genome, replace(config, whole_scan=True), 12.0)
+    sensors.decide(readings, pose, goal, scan)
+    lidar.decide(readings, pose, goal, scan)
+    cell = scan_map_resolution(UGV)
+    at_post = np.s_[round(7.7 / cell) : round(8.3 / cell), round(5.8 / cell) : round(6.2 / cell)]
+    assert not (sensors.scan.map.data[at_post] == OCCUPIED).any()
+    assert (lidar.scan.map.data[at_post] == OCCUPIED).any()
+    straight, path = sensors.guide.path, lidar.guide.path
+    assert straight is not None and np.abs(straight[:, 0] - 6.0).max() < 0.05
+    assert path is not None and np.abs(path[:, 0] - 6.0).max() > 0.3  # round the post

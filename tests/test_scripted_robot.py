@@ -93,3 +93,16 @@ def test_a_slow_planner_leaves_the_controller_on_time(
     assert len(scan.plan_seconds) >= 2 and min(scan.plan_seconds) >= 0.8
     periods = (burger.sim.time - t0) / burger.planner.control_period
     assert burger.planner.decisions - decided >= 0.9 * periods
+
+
+def test_the_scan_map_holds_every_ray_of_the_lidar(graph: Graph) -> None:
+    """The shipped UGV deployment maps the whole scan (``scan_map.whole_scan``, E100): after
+    a few decisions the map holds more obstacle cells than the sensors' rays could have ended
+    in (one each a decision)."""
+    burger = Burger(graph, (3.0, 2.5, 1.0))
+    burger.goal.publish(goal_msg((7.0, 5.5)))
+    burger.run(1.0)
+    planner = burger.planner
+    scan = planner.global_plan.planner.scan
+    assert scan.guide.config.whole_scan and planner.decisions >= 1
+    assert scan.map.occupied.sum() > 3 * planner.decisions * planner.profile.n_sensors

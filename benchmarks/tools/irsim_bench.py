@@ -6,7 +6,9 @@ committed IR-SIM worlds, static and dynamic, per seed.
 Every pair of every world of ``benchmarks/irsim_worlds/SPLIT/ROBOT-*.yaml`` is driven
 (:func:`mentor_core.irsim.episode.run_episode`, the 50 s limit) by each shipped planner of
 the robot (``planners/ROBOT-paper-dual-sN.json`` as deployed, N a seed of ``--seeds``, with
-IR-SIM's draws, lidar noise and wandering goals, from the same N), by the baselines
+IR-SIM's draws, lidar noise and wandering goals, from the same N, or from the seed at its
+place in ``--irsim-seeds``: ``--seeds 1,2,3,1,2,3 --irsim-seeds 1,2,3,4,5,6`` pools two
+draws under each planner, E100), by the baselines
 (``--baselines``, as ``mentor-bench`` builds them, on the shipped limits, their guard and
 plan the deployment's; each seed of ``--baseline-seeds``) and by a pure pursuit of the
 seed-1 planner's plan (``--pursuit``). Progress on stderr; the tables (Markdown) on stdout
@@ -123,6 +125,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--robot", required=True, choices=("ugv", "swarm"))
     p.add_argument("--split", default="validation", choices=("validation", "test"))
     p.add_argument("--seeds", default="1,2,3")
+    p.add_argument("--irsim-seeds", default="",
+                   help="IR-SIM's seed for each planner seed, in order (default: the same)")
     p.add_argument("--baselines", default="mapped-guard-vfh,mapped-guard-bug")
     p.add_argument("--baseline-seeds", default="1,2,3")
     p.add_argument("--pursuit", action=argparse.BooleanOptionalAction, default=True)
@@ -149,8 +153,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     size = worlds[0].size
     deployment = load_deployment("shipped", args.robot, args.set)[0]
+    draws = [int(s) for s in args.irsim_seeds.split(",") if s] or seeds
+    if len(draws) != len(seeds):
+        print("irsim_bench: --irsim-seeds needs one seed a planner seed", file=sys.stderr)
+        return 2
     runs = [(genome_driver(planner_path(args.robot, s), args.robot, size, deployment,
-                           fading=args.fading), s) for s in seeds]  # fmt: skip
+                           fading=args.fading), d)
+            for s, d in zip(seeds, draws, strict=True)]  # fmt: skip
     names = [b for b in args.baselines.split(",") if b]
     runs += [(baseline_driver(b, args.robot, size, deployment), s)
              for b in names for s in base_seeds]  # fmt: skip

@@ -21,6 +21,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 from PIL import Image
 
+from mentor_core.atomic import write_bytes_atomic
 from mentor_core.controller.deployment import load_deployment
 from mentor_core.irsim.drivers import genome_driver
 from mentor_core.irsim.episode import EpisodeResult, run_episode
@@ -54,14 +55,17 @@ def animation(path: Path, world: IrsimWorld, result: EpisodeResult, every: int =
         buffer = io.BytesIO()
         fig.savefig(buffer, dpi=60)
         frames.append(Image.open(buffer).convert("P", palette=Image.Palette.ADAPTIVE))
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=120, loop=0,
-                   optimize=True)  # fmt: skip
+    out = io.BytesIO()
+    frames[0].save(out, format="GIF", save_all=True, append_images=frames[1:], duration=120,
+                   loop=0, optimize=True)  # fmt: skip
+    write_bytes_atomic(path, out.getvalue())
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--out", type=Path, default=Path("docs"))
     args = p.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
     shown = [episode(name) for name in SHOWN]
     for world, r in shown:
         print(f"{world.name} pair 0: {r.outcome} after {r.time:.1f} s", flush=True)

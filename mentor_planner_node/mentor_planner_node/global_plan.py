@@ -54,6 +54,7 @@ from mentor_core import (
     GuideConfig,
     GuidedPlanner,
     MentorError,
+    MountedScan,
     PlannerFrames,
     PlanResult,
     ScanGuidedPlanner,
@@ -234,11 +235,16 @@ class GlobalPlan:
             goal = to_map.apply_point(np.asarray(goal, dtype=np.float64).reshape(2).tolist())
         return self.planner.goal_fault(goal)
 
-    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+    def decide(
+        self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike,
+        scan: MountedScan | None = None,
+    ) -> tuple[float, float]:  # fmt: skip
         """The guided decision for ``pose`` and ``goal`` in the odometry frame (module
         docstring: along a plan on a map it decides in ``map``, on a scan map in the odometry
-        frame); a new path is published once on ``global_plan``, in the frame it decides in.
-        LookupError: ``map -> odom`` is not known."""
+        frame, the map taking all rays of the lidar ``scan`` the readings came off where the
+        deployment's ``scan_map.whole_scan`` says so); a new path is published once on
+        ``global_plan``, in the frame it decides in. LookupError: ``map -> odom`` is not
+        known."""
         assert self.planner is not None  # the node decides only when ready
         frame = self._frames.odom_frame
         if isinstance(self.planner, GuidedPlanner):
@@ -247,7 +253,10 @@ class GlobalPlan:
             p = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
             g = np.asarray(goal, dtype=np.float64).reshape(2).tolist()
             pose, goal = to_map.apply_pose(p), to_map.apply_point(g)
-        decision = self.planner.decide(ranges, pose, goal)
+        if isinstance(self.planner, ScanGuidedPlanner):
+            decision = self.planner.decide(ranges, pose, goal, scan)
+        else:
+            decision = self.planner.decide(ranges, pose, goal)
         guide = self.planner.guide
         now = self._node.get_clock().now()
         new_plan = guide.revision != self._published and guide.path is not None

@@ -69,6 +69,7 @@ from mentor_core import (
     GenomePlanner,
     GoalStep,
     GoalTracker,
+    MountedScan,
     PlannerFrames,
     TfBuffer,
     Transform2D,
@@ -294,32 +295,33 @@ class PlannerNode(Node):
         if kind == "auto":
             kind = "sensors" if conversions.is_profile_scan(msg, self.profile) else "lidar"
         now = self._steady_ns()
+        scan = None
         try:
             if kind == "sensors":
                 ranges = conversions.ranges_from_scan(msg, self.profile)
             else:
-                ranges = self._lidar_readings(msg)
+                ranges, scan = self._lidar_readings(msg)
         except (ValueError, LookupError) as err:
             self.gate.refuse_scan(now)  # nothing is decided on an older scan
             self._stop(f"scan refused: {err}")
             return
-        self.gate.on_scan(conversions.ns_from_stamp(msg.header.stamp), ranges, now)
+        self.gate.on_scan(conversions.ns_from_stamp(msg.header.stamp), ranges, now, scan)
         if self._decide_timer is None:
             self._answer()
 
-    def _lidar_readings(self, msg: LaserScan) -> Any:
-        """The profile's readings off a lidar's scan (its mount from TF or the parameter)."""
+    def _lidar_readings(self, msg: LaserScan) -> tuple[Any, MountedScan]:
+        """The profile's readings off a lidar's scan (its mount from TF or the parameter),
+        and the scan on its mount (for a scan map of all its rays)."""
         mount = self.frames.mount(msg.header.frame_id)
-        read = readings_from_scan(
-            conversions.scan_data(msg), mount, self.profile, self.params.ray_width
-        )
+        data = conversions.scan_data(msg)
+        read = readings_from_scan(data, mount, self.profile, self.params.ray_width)
         if read.uncovered:
             self._warn(f"sensors {list(read.uncovered)} lie outside the scan's field of view: "
                        "they read nothing in range")
         fault = readings_fault(read)
         if fault:
             raise ValueError(fault)
-        return read.readings
+        return read.readings, MountedScan(data, mount)
 
     def _on_odom(self, msg: Odometry) -> None:
         try:
@@ -491,14 +493,16 @@ class PlannerNode(Node):
         if self.planner is None:
             self._send_zero("no genome loaded")
             return
-        decider = self.planner if self.global_plan is None else self.global_plan
         if obs.new_goal:  # a planner with a memory starts each goal blank, as in training
             if self.global_plan is None:
                 self.planner.reset()
             else:
                 self.global_plan.reset(obs.new_episode)
         try:
-            dtheta, ds = decider.decide(obs.ranges, obs.pose, obs.goal)
+            if self.global_plan is None:
+                dtheta, ds = self.planner.decide(obs.ranges, obs.pose, obs.goal)
+            else:
+                dtheta, ds = self.global_plan.decide(obs.ranges, obs.pose, obs.goal, obs.scan)
             twist = self._limited(conversions.twist_from_action(dtheta, ds, self.control_period))
             # a goal of a request the map now shows unreachable (an episode's is the
             # simulator's to end)

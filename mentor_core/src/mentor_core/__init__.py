@@ -365,6 +365,9 @@ if TYPE_CHECKING:
         LidarMount as LidarMount,
     )
     from mentor_core.sim.scan_adapter import (
+        MountedScan as MountedScan,
+    )
+    from mentor_core.sim.scan_adapter import (
         ScanReadings as ScanReadings,
     )
     from mentor_core.sim.scan_adapter import (

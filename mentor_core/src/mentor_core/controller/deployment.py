@@ -86,6 +86,9 @@ class ScanMapPlan:
     plan_delay: Annotated[int, Field(ge=0)] = 0
     """Decisions between asking for a plan and following it: a planner's delay simulated (0:
     at once, as the planner node in lockstep; :mod:`mentor_core.navigation.plan_worker`)."""
+    whole_scan: bool = False
+    """The map marks every ray of a lidar's scan, where the readings come off one (the
+    planner node's lidar, IR-SIM's), not only the sensors' readings."""
 
     def guide(self, profile: RobotProfile, source: str | Path | None = None) -> GuideConfig:
         """The guide's settings for a planner of ``profile``; ConfigError naming ``source``
@@ -97,7 +100,8 @@ class ScanMapPlan:
                               key="scan_map.least_margin", path=source)  # fmt: skip
         config = scan_guide_config(profile, self.lookahead, self.resolution,
                                    self.least_margin, self.clearance_cost)  # fmt: skip
-        return dataclasses.replace(config, plan_delay=self.plan_delay)
+        return dataclasses.replace(config, plan_delay=self.plan_delay,
+                                   whole_scan=self.whole_scan)  # fmt: skip
 
 
 @config_dataclass

@@ -36,8 +36,9 @@ from mentor_core.irsim.adapter import irsim_action, lidar_mount, scan_data, velo
 from mentor_core.irsim.dependency import load_irsim
 from mentor_core.irsim.drivers import DriverSpec
 from mentor_core.irsim.world_file import IrsimWorld, pair_config
+from mentor_core.runtime.guided_planner import ScanGuidedPlanner
 from mentor_core.sim.robots import get_profile
-from mentor_core.sim.scan_adapter import readings_fault, readings_from_scan
+from mentor_core.sim.scan_adapter import MountedScan, readings_fault, readings_from_scan
 from mentor_core.sim.world import Scenario, World
 
 FloatArray = NDArray[np.float64]
@@ -120,11 +121,16 @@ def run_episode(
         if math.dist(poses[-1][:2], goal) <= radius:
             outcome = "reached"
             break
-        read = readings_from_scan(scan_data(robot.get_lidar_scan()), mount, spec.profile)
+        data = scan_data(robot.get_lidar_scan())
+        read = readings_from_scan(data, mount, spec.profile)
         if readings_fault(read):
             command, refused = (0.0, 0.0), refused + 1
         else:
-            dtheta, ds = driver.decide(read.readings, poses[-1], goal)
+            if isinstance(driver, ScanGuidedPlanner):  # its map may take the whole scan
+                scan = MountedScan(data, mount)
+                dtheta, ds = driver.decide(read.readings, poses[-1], goal, scan)
+            else:
+                dtheta, ds = driver.decide(read.readings, poses[-1], goal)
             command = velocity_command(dtheta, ds, spec.profile.control_period)
         decisions += 1
         for _ in range(min(steps, most - done)):

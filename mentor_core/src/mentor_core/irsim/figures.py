@@ -3,6 +3,7 @@ radius), the robot's path, and each agent's track (faint) with where it stood at
 
 from __future__ import annotations
 
+import io
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -10,6 +11,7 @@ from typing import Any
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 
+from mentor_core.atomic import write_bytes_atomic
 from mentor_core.irsim.episode import EpisodeResult
 from mentor_core.irsim.world_file import IrsimWorld
 from mentor_core.sim.robots import get_profile
@@ -52,7 +54,8 @@ def draw_episode(ax: Any, world: IrsimWorld, result: EpisodeResult) -> None:
 
 def save_episodes(path: str | Path, episodes: Sequence[tuple[IrsimWorld, EpisodeResult]],
                   columns: int = 3) -> None:  # fmt: skip
-    """The recorded ``episodes`` side by side in one small PNG at ``path``."""
+    """The recorded ``episodes`` side by side in one small PNG at ``path`` (written whole or
+    not at all)."""
     rows = -(-len(episodes) // columns)
     fig = Figure(figsize=(2.6 * columns, 2.7 * rows))
     axes = fig.subplots(rows, columns, squeeze=False)
@@ -61,7 +64,9 @@ def save_episodes(path: str | Path, episodes: Sequence[tuple[IrsimWorld, Episode
     for ax in list(axes.flat)[len(episodes):]:
         ax.axis("off")
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=80)
+    write_bytes_atomic(path, buffer.getvalue())
 
 
 __all__ = ["COLOURS", "draw_episode", "save_episodes"]

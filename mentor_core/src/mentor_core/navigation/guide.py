@@ -66,6 +66,8 @@ class GuideConfig:
         plan_delay: decisions between asking for a plan on a scan map and following it (0:
             at once; :mod:`~mentor_core.navigation.plan_worker`), a planner's delay
             simulated in the benchmark.
+        whole_scan: a scan map marks every ray of the lidar scan the readings were read off,
+            where there is one, not only the sensors' readings.
     """
 
     lookahead: float
@@ -78,6 +80,7 @@ class GuideConfig:
     least_margin: float | None = None
     clearance_cost: float = 0.0
     plan_delay: int = 0
+    whole_scan: bool = False
 
     def __post_init__(self) -> None:
         if not (isinstance(self.plan_delay, int) and self.plan_delay >= 0):

@@ -52,6 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 from mentor_core.runtime.goal_intake import same_goal
 from mentor_core.runtime.odometry_history import OdometryHistory, Pose
 from mentor_core.runtime.stream_freshness import StreamFreshness
+from mentor_core.sim.scan_adapter import MountedScan
 
 FloatArray = NDArray[np.float64]
 _NS_PER_S = 1_000_000_000
@@ -64,7 +65,8 @@ class Observation:
     the goal (None when no goal has been received); ``new_goal``: the first observation
     answered since a new goal or a ``started`` event (a planner with a memory starts blank on
     it); ``new_episode``: the first since a ``started`` event (a new episode, perhaps in
-    another world)."""
+    another world); ``scan``: the lidar scan the readings were read off (None: per-sensor
+    readings), for a map of all its rays."""
 
     stamp_ns: int
     ranges: FloatArray
@@ -72,6 +74,7 @@ class Observation:
     goal: tuple[float, float] | None
     new_goal: bool = False
     new_episode: bool = False
+    scan: MountedScan | None = None
 
 
 class DecisionGate:
@@ -97,7 +100,7 @@ class DecisionGate:
             raise ValueError(f"sync_tolerance must be >= 0, got {sync_tolerance}")
         self.stale_after_ns = round(stale_after * _NS_PER_S)
         self.sync_tolerance_ns = round(sync_tolerance * _NS_PER_S)
-        self._scan: tuple[int, FloatArray] | None = None
+        self._scan: tuple[int, FloatArray, MountedScan | None] | None = None
         self._last_scan_stamp: int | None = None
         self._odometry = OdometryHistory(self.sync_tolerance_ns)
         self._streams = {name: StreamFreshness(self.stale_after_ns)
@@ -116,15 +119,17 @@ class DecisionGate:
         """The robot's episode has ended (no ``started`` event since)."""
         return self._idle
 
-    def on_scan(self, stamp_ns: int, ranges: ArrayLike, received_ns: int | None = None) -> None:
+    def on_scan(self, stamp_ns: int, ranges: ArrayLike, received_ns: int | None = None,
+                scan: MountedScan | None = None) -> None:  # fmt: skip
         """The latest scan (readings checked by the caller), stamped ``stamp_ns``, handled at
-        node time ``received_ns`` (None: not counted for freshness). A scan older than the
+        node time ``received_ns`` (None: not counted for freshness); ``scan``: the lidar scan
+        the readings were read off, kept for :attr:`Observation.scan`. A scan older than the
         last one (a clock that jumped back) starts the odometry afresh too."""
         stamp = int(stamp_ns)
         if self._last_scan_stamp is not None and stamp < self._last_scan_stamp:
             self._odometry.clear()
         self._last_scan_stamp = stamp
-        self._scan = (stamp, np.asarray(ranges, dtype=np.float64).copy())
+        self._scan = (stamp, np.asarray(ranges, dtype=np.float64).copy(), scan)
         if received_ns is not None:
             self._streams["scan"].arrived(received_ns, stamp)
 
@@ -188,7 +193,7 @@ class DecisionGate:
         answered."""
         if self._idle or self._scan is None or self._goal is None:
             return None
-        stamp, ranges = self._scan
+        stamp, ranges, scan = self._scan
         pose = self._odometry.pose_at(stamp)
         if pose is None:
             return None
@@ -199,7 +204,7 @@ class DecisionGate:
         self._answered_at = int(now_ns)
         new_goal, self._new_goal = self._new_goal, False
         new_episode, self._new_episode = self._new_episode, False
-        return Observation(stamp, ranges.copy(), pose, self._goal, new_goal, new_episode)
+        return Observation(stamp, ranges.copy(), pose, self._goal, new_goal, new_episode, scan)
 
     def stale(self, now_ns: int) -> str | None:
         """Why the last command must not be sent again at node time ``now_ns`` (a stream has

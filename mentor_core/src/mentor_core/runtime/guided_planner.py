@@ -30,6 +30,7 @@ from mentor_core.navigation.plan_worker import PlanWorker
 from mentor_core.navigation.scan_map import ScanGuide
 from mentor_core.runtime.planner import GenomePlanner
 from mentor_core.sim.robots import RobotProfile
+from mentor_core.sim.scan_adapter import MountedScan
 
 
 class Controller(Protocol):
@@ -156,9 +157,19 @@ class ScanGuidedPlanner:
             return f"goal {_xy(goal)} lies in an obstacle the scans have seen"
         return ""
 
-    def decide(self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike) -> tuple[float, float]:
+    def decide(
+        self, ranges: ArrayLike, pose: ArrayLike, goal: ArrayLike,
+        scan: MountedScan | None = None,
+    ) -> tuple[float, float]:  # fmt: skip
         """Decision ``(dtheta, ds)`` (rad, m) as :meth:`GenomePlanner.decide`, after adding
-        ``ranges`` to the map; the network sees the guide's goal instead of ``goal``."""
+        ``ranges`` to the map, or, with the config's ``whole_scan``, every ray of ``scan``,
+        the lidar scan they were read off (to the profile's sensor range); the network sees
+        the guide's goal instead of ``goal``."""
         p = np.asarray(pose, dtype=np.float64).reshape(3)
-        aim = self.scan.read(p, ranges, goal, self.planner.profile)
+        profile = self.planner.profile
+        if scan is not None and self.scan.guide.config.whole_scan:
+            rays, read = scan.rays(p)
+            aim = self.scan.target(rays, read, profile.sensor_range, p[:2], goal)
+        else:
+            aim = self.scan.read(p, ranges, goal, profile)
         return self.planner.decide(ranges, p, aim)

@@ -300,6 +300,32 @@ def readings_from_scan(
                         np.asarray(unknown, dtype=np.bool_), share, near)  # fmt: skip
 
 
+@dataclass(frozen=True)
+class MountedScan:
+    """A lidar's scan and where the lidar sits on the body: what a map of the whole scan
+    needs (:meth:`rays`)."""
+
+    scan: LaserScanData
+    mount: LidarMount = LidarMount()
+
+    def rays(self, pose: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """The scan's valid rays (REP-117, :func:`valid_ranges`) from a robot at ``pose``
+        (x, y, theta): each ray's frame ``(k, 3)`` (the lidar's origin and the ray's heading,
+        in the frame of ``pose``) and its reading ``(k,)`` (m): a return at its range,
+        ``-inf`` (an object nearer than ``range_min``) at ``range_min``, ``+inf`` nothing
+        within reach. NaN and finite ranges outside the limits say nothing: left out."""
+        x, y, theta = (float(v) for v in np.asarray(pose, dtype=np.float64).reshape(3))
+        scan, m = self.scan, self.mount.pose
+        valid = valid_ranges(scan)
+        r = scan.ranges[valid]
+        reading: FloatArray = np.where(np.isneginf(r), scan.range_min, r).astype(np.float64)
+        c, s = np.cos(theta), np.sin(theta)
+        ox, oy = x + c * m.x - s * m.y, y + s * m.x + c * m.y
+        heading = theta + body_directions(scan.angles[valid], self.mount)
+        frames = np.stack([np.full(r.size, ox), np.full(r.size, oy), heading], axis=1)
+        return frames, reading
+
+
 def _closed(scan: LaserScanData) -> bool:
     """The scan goes all round: its last ray is one increment short of its first."""
     n = scan.ranges.size
