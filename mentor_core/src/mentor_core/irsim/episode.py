@@ -3,8 +3,10 @@
 Every control period of the driver (``spec.profile.control_period``) the robot's latest
 lidar scan is read off as its profile's sensors
 (:func:`mentor_core.sim.scan_adapter.readings_from_scan` of :func:`.adapter.scan_data`), the
-driver decides, and its decision's Twist (:func:`.adapter.velocity_command`) is held for the
-period's IR-SIM steps (``world.step_time`` each). A scan the planner node would refuse
+driver decides (a driver on a scan map is handed the scan too, for a deployment whose map
+takes its every ray, as the planner node hands it over), and its decision's Twist
+(:func:`.adapter.velocity_command`) is held for the period's IR-SIM steps
+(``world.step_time`` each). A scan the planner node would refuse
 (:func:`mentor_core.sim.scan_adapter.readings_fault`) gives a zero Twist, as the node stops
 the robot. IR-SIM moves every object and checks collisions itself (``collision_mode:
 unobstructed_obstacles``: the robot stops at its first contact, the agents walk on).
@@ -126,7 +128,7 @@ def run_episode(
         if readings_fault(read):
             command, refused = (0.0, 0.0), refused + 1
         else:
-            if isinstance(driver, ScanGuidedPlanner):  # its map may take the whole scan
+            if isinstance(driver, ScanGuidedPlanner):
                 scan = MountedScan(data, mount)
                 dtheta, ds = driver.decide(read.readings, poses[-1], goal, scan)
             else:
