@@ -319,8 +319,7 @@ class MountedScan:
         valid = valid_ranges(scan)
         r = scan.ranges[valid]
         reading: FloatArray = np.where(np.isneginf(r), scan.range_min, r).astype(np.float64)
-        c, s = np.cos(theta), np.sin(theta)
-        ox, oy = x + c * m.x - s * m.y, y + s * m.x + c * m.y
+        ox, oy = Transform2D(x, y, theta).apply_point((m.x, m.y))
         heading = theta + body_directions(scan.angles[valid], self.mount)
         frames = np.stack([np.full(r.size, ox), np.full(r.size, oy), heading], axis=1)
         return frames, reading
